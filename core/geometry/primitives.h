@@ -1,0 +1,117 @@
+// The two primitive kinds of the paper: triangles (meshes) and spheres (point clouds, each point
+// a sphere of radius R), and the per-ray intersection routines used by every layout.
+#pragma once
+
+#include "core/geometry/vec3.h"
+
+namespace oct {
+
+struct Triangle {
+    Vec3 v0, v1, v2;  // 36 bytes
+};
+static_assert(sizeof(Triangle) == 36, "Triangle is three packed vertices");
+
+struct Sphere {
+    Vec3 center;   // 12 bytes
+    float radius;  // 4 bytes
+};
+static_assert(sizeof(Sphere) == 16, "Sphere is centre + radius");
+
+// Ray prepared for the watertight test of Woop, Benthin and Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), 2013: the ray is sheared so that it points along +z, which makes
+// the edge tests exact sign tests shared by neighbouring triangles (no cracks at edges).
+struct ShearedRay {
+    Vec3 org;
+    int kx, ky, kz;  // permutation making |dir[kz]| the largest component
+    float sx, sy, sz;
+};
+
+OCT_HD inline ShearedRay makeShearedRay(Vec3 org, Vec3 dir) {
+    ShearedRay r;
+    r.org = org;
+    float ax = fabsf(dir.x), ay = fabsf(dir.y), az = fabsf(dir.z);
+    r.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+    r.kx = r.kz + 1 == 3 ? 0 : r.kz + 1;
+    r.ky = r.kx + 1 == 3 ? 0 : r.kx + 1;
+    if (dir[r.kz] < 0.0f) {  // keep the winding so the sign tests below stay the same
+        int t = r.kx;
+        r.kx = r.ky;
+        r.ky = t;
+    }
+    r.sx = dir[r.kx] / dir[r.kz];
+    r.sy = dir[r.ky] / dir[r.kz];
+    r.sz = 1.0f / dir[r.kz];
+    return r;
+}
+
+// Returns true and the distance t when the ray hits the triangle with tmin <= t <= tmax.
+// Both faces count. Edge functions that are exactly zero are recomputed in double, as the
+// paper prescribes, so a ray through a shared edge hits at least one of the two triangles.
+OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, float tmin,
+                                     float tmax, float& tHit) {
+    Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
+    float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
+    float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
+    float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
+    float u = cx * by - cy * bx;
+    float v = ax * cy - ay * cx;
+    float w = bx * ay - by * ax;
+    if (u == 0.0f || v == 0.0f || w == 0.0f) {
+        u = (float)((double)cx * (double)by - (double)cy * (double)bx);
+        v = (float)((double)ax * (double)cy - (double)ay * (double)cx);
+        w = (float)((double)bx * (double)ay - (double)by * (double)ax);
+    }
+    if ((u < 0.0f || v < 0.0f || w < 0.0f) && (u > 0.0f || v > 0.0f || w > 0.0f)) return false;
+    float det = u + v + w;
+    if (det == 0.0f) return false;  // degenerate in the ray's projection, or the ray in its plane
+    float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
+    float tScaled = u * az + v * bz + w * cz;
+    // Compare t*det against the range without dividing, as in the paper; then divide once.
+    if (det < 0.0f) {
+        if (tScaled > tmin * det || tScaled < tmax * det) return false;
+    } else {
+        if (tScaled < tmin * det || tScaled > tmax * det) return false;
+    }
+    tHit = tScaled / det;
+    return tHit >= tmin && tHit <= tmax;
+}
+
+// Ray-sphere in the numerically careful form of Haines et al., "Precision Improvements for
+// Ray/Sphere Intersection" (Ray Tracing Gems, ch. 7): the discriminant is computed from the
+// closest-approach vector, and the two roots from the stable quadratic formula. The nearest
+// root inside [tmin, tmax] is returned; a ray starting inside the sphere hits its far side.
+OCT_HD inline bool intersectSphere(Vec3 org, Vec3 dir, const Sphere& s, float tmin, float tmax,
+                                   float& tHit) {
+    Vec3 f = org - s.center;
+    float a = dot(dir, dir);
+    float bPrime = -dot(f, dir);
+    Vec3 l = f + dir * (bPrime / a);
+    float r2 = s.radius * s.radius;
+    float disc = r2 - dot(l, l);
+    if (disc < 0.0f) return false;
+    float c = dot(f, f) - r2;
+    float q = bPrime + copysignf(sqrtf(a * disc), bPrime);
+    float t0, t1;
+    if (q == 0.0f) {  // origin at the centre's tangent point: both roots at zero
+        t0 = t1 = 0.0f;
+    } else {
+        t0 = c / q;
+        t1 = q / a;
+    }
+    if (t0 > t1) {
+        float t = t0;
+        t0 = t1;
+        t1 = t;
+    }
+    if (t0 >= tmin && t0 <= tmax) {
+        tHit = t0;
+        return true;
+    }
+    if (t1 >= tmin && t1 <= tmax) {
+        tHit = t1;
+        return true;
+    }
+    return false;
+}
+
+}  // namespace oct

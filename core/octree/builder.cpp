@@ -1,0 +1,160 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <string>
+
+#include "core/geometry/tri_box.h"
+#include "core/octree/morton.h"
+#include "core/octree/octree.h"
+
+namespace oct {
+namespace {
+
+V3<double> toV3d(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
+
+// The builder runs the overlap test in double and widens the box by a relative 1e-9, so the
+// rounding of the test itself can only add a leaf (a counted false positive), never lose one:
+// a lost leaf would lose hits. Inputs are floats, exactly representable in double.
+constexpr double kOverlapPad = 1e-9;
+
+struct PendingNode {
+    uint64_t key;
+    Aabb box;
+    int depth;
+    std::vector<uint32_t> prims;  // primitives overlapping this node, ascending
+};
+
+bool primOverlaps(const Scene& scene, uint32_t prim, const Aabb& box) {
+    return scene.kind == PrimKind::Triangles ? builderTriangleOverlaps(scene.triangles[prim], box)
+                                             : builderSphereOverlaps(scene.spheres[prim], box);
+}
+
+std::vector<uint32_t> overlapping(const Scene& scene, const std::vector<uint32_t>& prims,
+                                  const Aabb& box) {
+    std::vector<uint32_t> out;
+    for (uint32_t p : prims)
+        if (primOverlaps(scene, p, box)) out.push_back(p);
+    return out;
+}
+
+OctreeNode makeNode(const PendingNode& p, NodeType type) {
+    OctreeNode n{};
+    n.key = p.key;
+    n.box = p.box;
+    n.type = static_cast<uint8_t>(type);
+    n.depth = static_cast<uint8_t>(p.depth);
+    return n;
+}
+
+void checkParams(const Scene& scene, const BuildParams& params) {
+    if (params.maxDepth < 0 || params.maxDepth > kMaxOctreeDepth)
+        throw OctreeError("--max-depth " + std::to_string(params.maxDepth) +
+                          " is outside [0, " + std::to_string(kMaxOctreeDepth) +
+                          "]: a 64-bit Morton key holds 21 levels below the root");
+    if (params.maxPrims == 0)
+        throw OctreeError("--max-prims 0 would split every node: use 1 or more");
+    if (scene.primitiveCount() == 0)
+        throw OctreeError("scene '" + scene.name + "' has no primitives to build an octree over");
+}
+
+}  // namespace
+
+bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
+    V3<double> c = toV3d(box.center());
+    V3<double> lo = toV3d(box.lo), hi = toV3d(box.hi);
+    V3<double> h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
+    double pad = kOverlapPad * std::max({h.x, h.y, h.z});
+    h = {h.x + pad, h.y + pad, h.z + pad};
+    return triBoxOverlap(c, h, toV3d(tri.v0), toV3d(tri.v1), toV3d(tri.v2));
+}
+
+// Arvo's test (Graphics Gems, 1990): the squared distance from the centre to the box.
+bool builderSphereOverlaps(const Sphere& s, const Aabb& box) {
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) {
+        double c = s.center[a], lo = box.lo[a], hi = box.hi[a];
+        double e = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
+        d2 += e * e;
+    }
+    double r = double(s.radius) * (1.0 + kOverlapPad);
+    return d2 <= r * r;
+}
+
+Aabb rootCube(const Scene& scene) {
+    if (scene.domain) return *scene.domain;
+    Aabb b = scene.bounds();
+    Vec3 c = b.center();
+    Vec3 e = b.extent();
+    float half = 0.5f * std::max({e.x, e.y, e.z});
+    // Pad relative to the size, and by an absolute amount for a flat or point-sized scene.
+    half = half * (1.0f + 1e-4f) + 1e-6f * (1.0f + std::max({std::fabs(c.x), std::fabs(c.y),
+                                                             std::fabs(c.z)}));
+    return {c - makeVec3(half), c + makeVec3(half)};
+}
+
+Octree buildOctree(const Scene& scene, const BuildParams& params) {
+    checkParams(scene, params);
+    auto start = std::chrono::steady_clock::now();
+
+    Octree tree;
+    tree.kind = scene.kind;
+    tree.primitiveCount = scene.primitiveCount();
+    tree.params = params;
+    tree.root = rootCube(scene);
+    // A grid cloud's spheres fit one per cell of depth gridDepth (grid_cloud.h); splitting
+    // deeper would cut spheres in two, so the grid depth bounds the build.
+    tree.effectiveMaxDepth =
+        scene.gridDepth >= 0 ? std::min(params.maxDepth, scene.gridDepth) : params.maxDepth;
+
+    // Breadth-first over one level at a time, so the 8 children of each node are adjacent
+    // and levels are contiguous.
+    std::vector<PendingNode> level(1);
+    level[0] = {kRootKey, tree.root, 0, {}};
+    level[0].prims.resize(tree.primitiveCount);
+    for (uint32_t i = 0; i < tree.primitiveCount; ++i) level[0].prims[i] = i;
+    level[0].prims = overlapping(scene, level[0].prims, tree.root);
+
+    while (!level.empty()) {
+        std::vector<PendingNode> next;
+        for (PendingNode& p : level) {
+            bool split = p.prims.size() > params.maxPrims && p.depth < tree.effectiveMaxDepth;
+            if (split) {
+                tree.nodes.push_back(makeNode(p, NodeType::Internal));
+                tree.firstChild.push_back(0);  // patched below, once the level's size is known
+                for (int i = 0; i < 8; ++i) {
+                    PendingNode c{childKey(p.key, i), childBox(p.box, i), p.depth + 1, {}};
+                    c.prims = overlapping(scene, p.prims, c.box);
+                    next.push_back(std::move(c));
+                }
+            } else {
+                NodeType type = p.prims.empty() ? NodeType::EmptyLeaf : NodeType::Leaf;
+                OctreeNode n = makeNode(p, type);
+                if (tree.primIndices.size() + p.prims.size() > 0xffffffffull)
+                    throw OctreeError("octree of '" + scene.name +
+                                      "' needs more than 2^32 primitive references: lower "
+                                      "--max-depth or raise --max-prims");
+                n.primOffset = static_cast<uint32_t>(tree.primIndices.size());
+                n.primCount = static_cast<uint32_t>(p.prims.size());
+                tree.primIndices.insert(tree.primIndices.end(), p.prims.begin(), p.prims.end());
+                tree.nodes.push_back(n);
+                tree.firstChild.push_back(Octree::kNoChild);
+            }
+            tree.depth = std::max(tree.depth, p.depth);
+            std::vector<uint32_t>().swap(p.prims);
+        }
+        // Children of this level's internal nodes follow the level, in the order pushed.
+        size_t levelStart = tree.nodes.size() - level.size();
+        uint32_t childPos = static_cast<uint32_t>(tree.nodes.size());
+        for (size_t i = levelStart; i < tree.nodes.size(); ++i) {
+            if (tree.nodes[i].nodeType() != NodeType::Internal) continue;
+            tree.firstChild[i] = childPos;
+            childPos += 8;
+        }
+        level = std::move(next);
+    }
+    tree.buildSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return tree;
+}
+
+}  // namespace oct

@@ -1,0 +1,67 @@
+// The canonical octree: what the host builder produces and what every layout is converted
+// from (linear_octree.h, hash_octree.h). Host-only; kernels see the layouts' views.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "core/octree/node.h"
+#include "core/octree/octree_limits.h"
+#include "core/scene/scene.h"
+
+namespace oct {
+
+// Thrown for build parameters or sizes octrace cannot honour; the message says which value
+// and what to do instead.
+class OctreeError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct BuildParams {
+    // Defaults: deep enough that the bunny's leaves hold a handful of triangles, shallow enough
+    // that the complete linear array (8^(d+1)-1)/7 * 48 bytes stays near 115 MB at d = 7.
+    int maxDepth = 7;
+    // A node with more than this many primitives is split (unless at maxDepth).
+    uint32_t maxPrims = 8;
+};
+
+struct Octree {
+    Aabb root;                    // a cube around the scene (or the generator's domain)
+    PrimKind kind = PrimKind::Triangles;
+    uint32_t primitiveCount = 0;  // primitives in the scene
+    BuildParams params;           // as requested
+    int effectiveMaxDepth = 0;    // maxDepth after clamping to a grid cloud's cell depth
+    int depth = 0;                // deepest node present
+    double buildSeconds = 0.0;
+
+    // Nodes in breadth-first order, root at 0; the 8 children of an internal node are
+    // adjacent, starting at firstChild[i] (kNoChild for leaves).
+    std::vector<OctreeNode> nodes;
+    std::vector<uint32_t> firstChild;
+    // The one global array of leaf primitive lists (paper, sec. 4): leaf n owns
+    // primIndices[n.primOffset, n.primOffset + n.primCount), ascending primitive ids.
+    std::vector<uint32_t> primIndices;
+
+    static constexpr uint32_t kNoChild = 0xffffffffu;
+
+    // Sum of leaf list lengths: the paper's "octree faces" (Table 1, last column).
+    uint64_t referenceCount() const { return primIndices.size(); }
+};
+
+// Root cube: the scene's box made cubic around its centre and padded by a relative 1e-4 so
+// primitives on the scene's boundary are strictly inside; a grid cloud's domain is used as is.
+Aabb rootCube(const Scene& scene);
+
+// Builds the paper's octree on the host. A node holding more than maxPrims primitives and
+// shallower than maxDepth is split into 8; a triangle goes into every child it overlaps
+// (Akenine-Möller, tri_box.h), a sphere into every child whose box is within its radius.
+// Throws OctreeError for maxDepth outside [0, 21], maxPrims == 0, or an empty scene.
+Octree buildOctree(const Scene& scene, const BuildParams& params);
+
+// Overlap tests exactly as the builder applies them, exposed for tests and validation.
+bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box);
+bool builderSphereOverlaps(const Sphere& s, const Aabb& box);
+
+}  // namespace oct

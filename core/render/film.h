@@ -1,0 +1,22 @@
+// The Film: what a frame produces per pixel, row-major (index y * width + x).
+#pragma once
+
+#include <cstdint>
+
+#include "core/platform.h"
+
+namespace oct {
+
+// Kernel-side view of a film's arrays (host or device memory).
+struct FilmView {
+    uint8_t* rgb;           // 3 bytes per pixel, sRGB-agnostic 8-bit colour
+    float* t;               // closest hit distance along the unit primary ray, +inf on a miss
+    int32_t* prim;          // primitive id of the closest hit, -1 on a miss
+    uint32_t* nodes;        // nodes visited by the primary and the shadow ray
+    uint32_t* primsTested;  // primitives tested by the primary and the shadow ray
+    uint8_t* shadowed;      // 1 when the hit point is occluded from the light
+    int width;
+    int height;
+};
+
+}  // namespace oct

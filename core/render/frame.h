@@ -1,0 +1,52 @@
+// Host-side set-up of a frame: camera from options or framed automatically, shading defaults,
+// and the Film that owns the per-pixel arrays.
+#pragma once
+
+#include <optional>
+#include <stdexcept>
+#include <vector>
+
+#include "core/render/camera.h"
+#include "core/render/film.h"
+
+namespace oct {
+
+class FrameError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct CameraOptions {
+    std::optional<Vec3> eye, target, up, light;
+    float fovDegrees = 45.0f;
+    int width = 512;
+    int height = 512;
+};
+
+// Largest image side accepted: 16384 (16384^2 pixels of Film take about 4.3 GiB).
+constexpr int kMaxImageSide = 16384;
+
+// Default framing rule: look at the centre of the scene's box along -z (from the +z side),
+// with +y up, from the distance at which the box's bounding sphere just fits the smaller of
+// the two fields of view, plus 5%. So every scene is fully visible. The light sits above and
+// to the right of the eye by one bounding-sphere radius in each direction.
+// Throws FrameError for a non-finite value, eye == target, up parallel to the view direction,
+// fov outside (0, 180), or a size outside [1, kMaxImageSide].
+FrameParams makeFrame(const Aabb& sceneBounds, const CameraOptions& opt);
+
+// Owns the arrays a FilmView points to.
+struct Film {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    std::vector<float> t;
+    std::vector<int32_t> prim;
+    std::vector<uint32_t> nodes, primsTested;
+    std::vector<uint8_t> shadowed;
+
+    Film() = default;
+    Film(int w, int h);
+    FilmView view();
+    size_t pixelCount() const { return size_t(width) * size_t(height); }
+};
+
+}  // namespace oct

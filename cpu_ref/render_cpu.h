@@ -1,0 +1,35 @@
+// The OpenMP backend: a parallel loop over pixels (or rays) calling the core kernel, nothing
+// else. Embree's ground truth runs through the same loops with its own accelerator.
+#pragma once
+
+#include <omp.h>
+
+#include "core/octree/accel.h"
+#include "core/render/frame.h"
+#include "core/render/kernel.h"
+
+namespace oct {
+
+// Threads for the OpenMP loops: `threads` when positive, else OMP_NUM_THREADS / all cores.
+void setCpuThreads(int threads);
+
+template <class Accel>
+void renderFrameCpu(const FrameParams& p, const Accel& accel, const PrimitivesView& prims,
+                    FilmView film) {
+#pragma omp parallel for schedule(dynamic, 4)
+    for (int y = 0; y < p.height; ++y)
+        for (int x = 0; x < p.width; ++x) renderPixel(x, y, p, accel, prims, film);
+}
+
+template <class Accel>
+void traceRaysCpu(const Accel& accel, RayBatchView batch) {
+    const int64_t n = static_cast<int64_t>(batch.count);
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int64_t i = 0; i < n; ++i) traceRayAt(static_cast<uint64_t>(i), accel, batch);
+}
+
+// Renders with the built layout on the CPU; returns the frame time in seconds.
+double renderCpu(const FrameParams& p, const BuiltScene& scene, Film& film);
+double traceCpu(const BuiltScene& scene, RayBatchView batch);
+
+}  // namespace oct
