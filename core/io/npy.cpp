@@ -1,0 +1,147 @@
+#include "core/io/npy.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+namespace oct {
+
+uint64_t NpyArray::elementCount() const {
+    uint64_t n = 1;
+    for (uint64_t d : shape) n *= d;
+    return n;
+}
+
+namespace {
+
+size_t descrSize(const std::string& d) {
+    if (d == "<f4" || d == "<i4" || d == "<u4") return 4;
+    if (d == "|u1" || d == "<u1") return 1;
+    if (d == "<f8" || d == "<i8" || d == "<u8") return 8;
+    return 0;
+}
+
+std::string headerFor(const std::string& descr, const std::vector<uint64_t>& shape) {
+    std::ostringstream h;
+    h << "{'descr': '" << descr << "', 'fortran_order': False, 'shape': (";
+    for (size_t i = 0; i < shape.size(); ++i) h << (i ? ", " : "") << shape[i];
+    if (shape.size() == 1) h << ",";  // a Python 1-tuple
+    h << "), }";
+    std::string s = h.str();
+    size_t total = 10 + s.size() + 1;  // magic(6) + version(2) + len(2) + dict + '\n'
+    s.append((64 - total % 64) % 64, ' ');
+    s.push_back('\n');
+    return s;
+}
+
+[[noreturn]] void bad(const std::string& path, const std::string& why) {
+    throw IoError("'" + path + "' is not a valid .npy file: " + why);
+}
+
+// Value of key in the header dict, e.g. 'descr': '<f4' -> <f4, 'shape': (3, 8) -> 3, 8.
+std::string field(const std::string& header, const std::string& key, const std::string& path) {
+    size_t k = header.find("'" + key + "'");
+    if (k == std::string::npos) bad(path, "header has no '" + key + "'");
+    size_t colon = header.find(':', k);
+    if (colon == std::string::npos) bad(path, "malformed header");
+    size_t start = header.find_first_not_of(' ', colon + 1);
+    if (start == std::string::npos) bad(path, "malformed header");
+    char open = header[start];
+    char close = open == '\'' ? '\'' : (open == '(' ? ')' : ',');
+    size_t from = (open == '\'' || open == '(') ? start + 1 : start;
+    size_t end = header.find(close, from);
+    if (end == std::string::npos) bad(path, "malformed header");
+    return header.substr(from, end - from);
+}
+
+std::vector<uint64_t> parseShape(const std::string& s, const std::string& path) {
+    std::vector<uint64_t> shape;
+    std::string token;
+    std::istringstream in(s);
+    while (std::getline(in, token, ',')) {
+        size_t a = token.find_first_not_of(' ');
+        if (a == std::string::npos) continue;
+        size_t b = token.find_last_not_of(' ');
+        token = token.substr(a, b - a + 1);
+        if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos ||
+            token.size() > 19)
+            bad(path, "bad shape entry '" + token + "'");
+        shape.push_back(std::stoull(token));
+    }
+    return shape;
+}
+
+}  // namespace
+
+void writeNpy(const std::string& path, const std::string& descr,
+              const std::vector<uint64_t>& shape, const void* data, size_t elementSize) {
+    if (descrSize(descr) != elementSize)
+        throw IoError("internal: .npy dtype " + descr + " does not match element size");
+    uint64_t count = 1;
+    for (uint64_t d : shape) count *= d;
+    std::string header = headerFor(descr, shape);
+    std::vector<uint8_t> bytes;
+    bytes.reserve(10 + header.size() + count * elementSize);
+    const char magic[] = "\x93NUMPY\x01\x00";
+    bytes.insert(bytes.end(), magic, magic + 8);
+    bytes.push_back(uint8_t(header.size() & 0xff));
+    bytes.push_back(uint8_t(header.size() >> 8));
+    bytes.insert(bytes.end(), header.begin(), header.end());
+    const auto* p = static_cast<const uint8_t*>(data);
+    bytes.insert(bytes.end(), p, p + count * elementSize);
+    writeFileAtomic(path, bytes);
+}
+
+NpyArray readNpy(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
+    in.seekg(0, std::ios::end);
+    std::streamoff fileSize = in.tellg();
+    in.seekg(0);
+    if (fileSize < 10) bad(path, "shorter than the 10-byte preamble");
+    char pre[10];
+    in.read(pre, 10);
+    if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
+    int major = static_cast<uint8_t>(pre[6]);
+    uint64_t headerLen = static_cast<uint8_t>(pre[8]) | (uint64_t(static_cast<uint8_t>(pre[9])) << 8);
+    uint64_t dataStart = 10;
+    if (major == 2 || major == 3) {
+        char more[2];
+        in.read(more, 2);
+        headerLen |= (uint64_t(static_cast<uint8_t>(more[0])) << 16) |
+                     (uint64_t(static_cast<uint8_t>(more[1])) << 24);
+        dataStart = 12;
+    } else if (major != 1) {
+        bad(path, "unsupported format version " + std::to_string(major));
+    }
+    if (headerLen > uint64_t(fileSize) - dataStart) bad(path, "header runs past the end of the file");
+    std::string header(headerLen, '\0');
+    in.read(&header[0], std::streamsize(headerLen));
+    dataStart += headerLen;
+
+    NpyArray a;
+    a.descr = field(header, "descr", path);
+    size_t elem = descrSize(a.descr);
+    if (elem == 0) bad(path, "unsupported dtype '" + a.descr + "'");
+    if (field(header, "fortran_order", path).find("False") == std::string::npos)
+        bad(path, "Fortran-ordered arrays are not supported; save with np.ascontiguousarray");
+    a.shape = parseShape(field(header, "shape", path), path);
+    uint64_t count = 1;
+    for (uint64_t d : a.shape) {
+        if (d != 0 && count > std::numeric_limits<uint64_t>::max() / d / elem)
+            bad(path, "shape is too large");
+        count *= d;
+    }
+    uint64_t available = uint64_t(fileSize) - dataStart;
+    if (count * elem != available)
+        bad(path, "shape needs " + std::to_string(count * elem) + " data bytes but the file has " +
+                      std::to_string(available) + " (truncated or wrong header)");
+    a.data.resize(count * elem);
+    in.read(reinterpret_cast<char*>(a.data.data()), std::streamsize(a.data.size()));
+    if (!in) bad(path, "read failed");
+    return a;
+}
+
+}  // namespace oct

@@ -1,0 +1,32 @@
+// NumPy .npy files, format version 1.0 (numpy.lib.format): the 6-byte magic "\x93NUMPY", version
+// bytes 1 0, a little-endian uint16 header length, then an ASCII Python dict
+// {'descr': '<f4', 'fortran_order': False, 'shape': (H, W), } padded with spaces and a final
+// '\n' so that the data starts at a multiple of 64 bytes; then the raw C-order data.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/io/output_file.h"
+
+namespace oct {
+
+struct NpyArray {
+    std::string descr;  // "<f4", "<i4", "<u4", "|u1"
+    std::vector<uint64_t> shape;
+    std::vector<uint8_t> data;  // C order, little-endian
+
+    uint64_t elementCount() const;
+};
+
+// Writes atomically (output_file.h). descr and the element size must match.
+void writeNpy(const std::string& path, const std::string& descr,
+              const std::vector<uint64_t>& shape, const void* data, size_t elementSize);
+
+// Reads a version 1.x or 2.x .npy file. Throws IoError naming the file and the problem for a
+// missing file, a bad magic or header, Fortran order, or a data size that disagrees with the
+// shape (checked before allocating, overflow-safe).
+NpyArray readNpy(const std::string& path);
+
+}  // namespace oct

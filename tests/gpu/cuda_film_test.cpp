@@ -1,0 +1,110 @@
+// The CUDA path against the OpenMP path: same kernel source, so in the certification build
+// (--fmad=false, no fast math) t, primitive id and colour must agree bit for bit, per layout.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <random>
+#include <string>
+
+#include "core/scene/grid_cloud.h"
+#include "core/scene/load_scene.h"
+#include "cpu_ref/render_cpu.h"
+#include "gpu/cuda_backend.h"
+
+namespace oct {
+namespace {
+
+#define OCT_REQUIRE_GPU()                                                 \
+    do {                                                                  \
+        std::string why_;                                                 \
+        if (!cudaDevicePresent(why_)) GTEST_SKIP() << "no GPU: " << why_; \
+    } while (0)
+
+std::string meshPath(const std::string& name) {
+    return std::string(OCT_SOURCE_DIR) + "/meshes/" + name;
+}
+
+// Counts pixels whose t, prim or colour bits differ between the two films.
+size_t differingPixels(const Film& a, const Film& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.pixelCount(); ++i) {
+        bool same = std::memcmp(&a.t[i], &b.t[i], sizeof(float)) == 0 && a.prim[i] == b.prim[i] &&
+                    std::memcmp(&a.rgb[3 * i], &b.rgb[3 * i], 3) == 0 &&
+                    a.shadow[i] == b.shadow[i];
+        n += !same;
+    }
+    return n;
+}
+
+void expectBitEqual(const Scene& scene, int w, int h) {
+    CameraOptions cam;
+    cam.width = w;
+    cam.height = h;
+    FrameParams frame = makeFrame(scene.bounds(), cam);
+    for (Layout layout : {Layout::Exhaustive, Layout::Linear, Layout::Hash}) {
+        BuiltScene b = buildScene(scene, layout, {});
+        Film cpu, gpu;
+        renderCpu(frame, b, cpu);
+        renderCuda(frame, b, gpu);
+        size_t hits = 0;
+        for (int32_t p : cpu.prim) hits += p >= 0;
+        EXPECT_GT(hits, 0u) << scene.name;
+        EXPECT_EQ(differingPixels(cpu, gpu), 0u) << scene.name << " " << layoutName(layout);
+    }
+}
+
+TEST(CudaBackend, ReportsPresenceInOneLine) {
+    std::string why;
+    bool present = cudaDevicePresent(why);
+    EXPECT_FALSE(why.empty());
+    EXPECT_EQ(why.find('\n'), std::string::npos);
+    if (!present) GTEST_SKIP() << "no GPU: " << why;
+}
+
+TEST(CudaBackend, FilmEqualsOpenMpOnCommittedMeshes) {
+    OCT_REQUIRE_GPU();
+    for (const char* m : {"cornell_box.obj", "teapot.obj", "spider.obj", "wuson.obj"})
+        expectBitEqual(loadScene(meshPath(m)), 256, 256);
+}
+
+TEST(CudaBackend, FilmEqualsOpenMpOnBunny) {
+    OCT_REQUIRE_GPU();
+    std::string bunny = meshPath("cache/bunny.obj");
+    if (!std::filesystem::exists(bunny)) GTEST_SKIP() << "run meshes/fetch for the bunny";
+    expectBitEqual(loadScene(bunny), 512, 512);
+}
+
+TEST(CudaBackend, FilmEqualsOpenMpOnGridCloud) {
+    OCT_REQUIRE_GPU();
+    expectBitEqual(makeGridCloud(4096, 3), 256, 256);
+}
+
+TEST(CudaBackend, TraceEqualsOpenMp) {
+    OCT_REQUIRE_GPU();
+    Scene scene = loadScene(meshPath("teapot.obj"));
+    Aabb bb = scene.bounds();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    const uint64_t n = 20000;
+    std::vector<float> rays(8 * n);
+    for (uint64_t i = 0; i < n; ++i) {
+        Vec3 o = bb.lo + bb.extent() * Vec3{u(rng), u(rng), u(rng)};
+        Vec3 d = {u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f};
+        if (i % 7 == 0) d = {0.0f, 0.0f, (i % 2) ? 1.0f : -1.0f};  // axis-parallel
+        float r[8] = {o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY};
+        std::memcpy(&rays[8 * i], r, sizeof r);
+    }
+    for (Layout layout : {Layout::Exhaustive, Layout::Linear, Layout::Hash}) {
+        BuiltScene b = buildScene(scene, layout, {});
+        std::vector<float> tc(n), tg(n);
+        std::vector<int32_t> pc(n), pg(n);
+        traceCpu(b, {rays.data(), tc.data(), pc.data(), n});
+        traceCuda(b, {rays.data(), tg.data(), pg.data(), n});
+        EXPECT_EQ(std::memcmp(tc.data(), tg.data(), n * sizeof(float)), 0) << layoutName(layout);
+        EXPECT_EQ(pc, pg) << layoutName(layout);
+    }
+}
+
+}  // namespace
+}  // namespace oct
