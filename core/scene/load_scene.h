@@ -1,0 +1,47 @@
+// Scene loading: a file (or a generator spec) in, a Scene of flat primitive arrays out, with an
+// account in scene.report of everything that was dropped on the way.
+//
+// Formats, chosen by the extension (case-insensitive):
+//  - .obj .ply .off .stl: triangle meshes read through OpenMesh's readers into our own importer,
+//    which keeps every face in file order, including the non-manifold and duplicated faces an
+//    OpenMesh mesh would reject. Polygons are fan-triangulated (v0, vi, vi+1) in face order;
+//    triangle i came from file face sourceFace[i]. Dropped and counted: faces with fewer than
+//    3 vertices, faces with an index that names no vertex, faces with a non-finite (or, in OBJ,
+//    unparsable) vertex coordinate, and fan triangles of zero area (the cross product of two
+//    edges, computed in double from the float vertices, is exactly the zero vector).
+//  - .ply with vertices but no faces, and .xyz (whitespace-separated "x y z" per line, further
+//    columns ignored, blank lines and lines starting with '#' skipped): point clouds, each
+//    point a Sphere. Points with a non-finite coordinate are dropped and counted.
+//  - "grid:N" or "grid:N:SEED": the generated grid cloud of grid_cloud.h (seed 1 by default).
+//
+// Sphere radius of point clouds: LoadOptions::radius when > 0, else defaultPointRadius().
+//
+// Every failure is a SceneError with a one-line message naming the path, the reason and what to
+// do: missing or unreadable file, a directory, an unknown extension, a file OpenMesh cannot
+// read or that its reader would misread, or a scene left without a single usable primitive.
+//
+// Safe to call from several threads: reads through OpenMesh are serialised by a lock, because its
+// readers are process-wide singletons with per-read state.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/scene/scene.h"
+
+namespace oct {
+
+Scene loadScene(const std::string& path, const LoadOptions& opts = {});
+
+// Default sphere radius for a point cloud:
+//   R = 0.5 x the median nearest-neighbour distance, taken over a deterministic sample of at most
+//   10,000 points (all points when there are fewer; otherwise the points at indices
+//   floor(i * n / 10000), i = 0 .. 9999). Each sample point's nearest neighbour is searched among
+//   ALL points with a uniform hash grid, ignoring points at distance zero (exact duplicates), so
+//   repeated points cannot force R to 0. The median of k distances is the element of rank
+//   floor(k / 2) in ascending order. Spheres of this radius just touch their typical neighbour.
+//   When there is a single point, or all points coincide, R = 1e-3 x the bounding-box diagonal,
+//   or 1e-3 when that diagonal is 0. Points must be finite; an empty input gives 1e-3.
+float defaultPointRadius(const std::vector<Vec3>& points);
+
+}  // namespace oct
