@@ -7,6 +7,11 @@
 
 namespace oct {
 
+// Per-pixel shadow-ray outcome.
+constexpr uint8_t kNoShadowRay = 0;  // primary ray missed, or the surface faces away from the light
+constexpr uint8_t kLit = 1;          // shadow ray cast, nothing between hit and light
+constexpr uint8_t kOccluded = 2;     // shadow ray cast and blocked
+
 // Kernel-side view of a film's arrays (host or device memory).
 struct FilmView {
     uint8_t* rgb;           // 3 bytes per pixel, sRGB-agnostic 8-bit colour
@@ -14,7 +19,7 @@ struct FilmView {
     int32_t* prim;          // primitive id of the closest hit, -1 on a miss
     uint32_t* nodes;        // nodes visited by the primary and the shadow ray
     uint32_t* primsTested;  // primitives tested by the primary and the shadow ray
-    uint8_t* shadowed;      // 1 when the hit point is occluded from the light
+    uint8_t* shadow;        // kNoShadowRay, kLit or kOccluded
     int width;
     int height;
 };

@@ -83,11 +83,11 @@ Film::Film(int w, int h)
       prim(size_t(w) * size_t(h)),
       nodes(size_t(w) * size_t(h)),
       primsTested(size_t(w) * size_t(h)),
-      shadowed(size_t(w) * size_t(h)) {}
+      shadow(size_t(w) * size_t(h)) {}
 
 FilmView Film::view() {
     return {rgb.data(), t.data(), prim.data(), nodes.data(), primsTested.data(),
-            shadowed.data(), width, height};
+            shadow.data(), width, height};
 }
 
 }  // namespace oct

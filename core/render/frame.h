@@ -41,7 +41,7 @@ struct Film {
     std::vector<float> t;
     std::vector<int32_t> prim;
     std::vector<uint32_t> nodes, primsTested;
-    std::vector<uint8_t> shadowed;
+    std::vector<uint8_t> shadow;
 
     Film() = default;
     Film(int w, int h);

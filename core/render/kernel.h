@@ -64,14 +64,15 @@ OCT_HD inline void renderPixel(int x, int y, const FrameParams& p, const Accel& 
     TraceCost cost = {0, 0};
     Hit hit = closestHit(accel, ray, cost);
     Vec3 colour = p.shading.background;
-    uint8_t shadowed = 0;
+    uint8_t shadow = kNoShadowRay;
     if (hit.prim >= 0) {
         Vec3 pos = ray.org + ray.dir * hit.t;
         Vec3 n = hitNormal(prims, hit.prim, pos, ray.dir);
         float lightDist;
         Ray sray = shadowRay(pos, n, p.shading, lightDist);
-        shadowed = dot(n, sray.dir) > 0.0f && anyHit(accel, sray, cost) ? 1 : 0;
-        colour = phong(p.shading, n, sray.dir, ray.dir, shadowed != 0);
+        // A surface facing away from the light is unlit without asking: no shadow ray.
+        if (dot(n, sray.dir) > 0.0f) shadow = anyHit(accel, sray, cost) ? kOccluded : kLit;
+        colour = phong(p.shading, n, sray.dir, ray.dir, shadow == kOccluded);
     }
     film.rgb[3 * idx + 0] = toByte(colour.x);
     film.rgb[3 * idx + 1] = toByte(colour.y);
@@ -80,7 +81,7 @@ OCT_HD inline void renderPixel(int x, int y, const FrameParams& p, const Accel& 
     film.prim[idx] = hit.prim;
     film.nodes[idx] = cost.nodesVisited;
     film.primsTested[idx] = cost.primsTested;
-    film.shadowed[idx] = shadowed;
+    film.shadow[idx] = shadow;
 }
 
 // One ray of a user's ray set (octrace trace): closest hit with t in [tmin, tmax].

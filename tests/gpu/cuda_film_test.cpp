@@ -2,6 +2,7 @@
 // (--fmad=false, no fast math) t, primitive id and colour must agree bit for bit, per layout.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <random>
@@ -21,8 +22,11 @@ namespace {
         if (!cudaDevicePresent(why_)) GTEST_SKIP() << "no GPU: " << why_; \
     } while (0)
 
+// The repository root: $OCT_SOURCE_DIR when set (the GPU machine runs binaries built here from
+// another checkout path, scripts/gpu-run), else the path compiled in.
 std::string meshPath(const std::string& name) {
-    return std::string(OCT_SOURCE_DIR) + "/meshes/" + name;
+    const char* root = std::getenv("OCT_SOURCE_DIR");
+    return std::string(root ? root : OCT_SOURCE_DIR) + "/meshes/" + name;
 }
 
 // Counts pixels whose t, prim or colour bits differ between the two films.

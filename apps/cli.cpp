@@ -1,0 +1,87 @@
+#include "apps/cli.h"
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "core/io/output_file.h"
+#include "core/render/frame.h"
+#include "cpu_ref/render_cpu.h"
+
+namespace oct {
+
+LoadOptions SceneOptions::loadOptions() const {
+    LoadOptions o;
+    o.radius = radius;
+    return o;
+}
+
+LayoutOptions SceneOptions::layoutOptions() const {
+    LayoutOptions o;
+    o.build.maxDepth = maxDepth;
+    o.build.maxPrims = maxPrims;
+    o.hash.bucketSlots = hashSlots;
+    o.linearBudget = linearBudgetMiB << 20;
+    return o;
+}
+
+void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
+    cmd.add_option("scene", o.path,
+                   "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or a generated grid "
+                   "cloud grid:N[:SEED]")
+        ->required();
+    cmd.add_option("--max-depth", o.maxDepth, "Deepest octree level (root = 0), 0..21")
+        ->capture_default_str()
+        ->check(CLI::Range(0, kMaxOctreeDepth));
+    cmd.add_option("--max-prims", o.maxPrims, "Split a node holding more primitives than this")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 1u << 30));
+    cmd.add_option("--radius", o.radius,
+                   "Sphere radius for point clouds (default: half the median nearest-neighbour "
+                   "distance)")
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--hash-slots", o.hashSlots, "Slots per hash bucket (B)")
+        ->capture_default_str()
+        ->check(CLI::Range(1u, 64u));
+    cmd.add_option("--linear-budget", o.linearBudgetMiB,
+                   "Largest linear octree to allocate, MiB")
+        ->capture_default_str()
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+}
+
+Vec3 parseVec3(const std::string& option, const std::string& text) {
+    std::istringstream in(text);
+    Vec3 v;
+    char c1 = 0, c2 = 0;
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof() ||
+        !isFinite(v))
+        throw CLI::ValidationError(option, "'" + text + "' is not three finite numbers x,y,z");
+    return v;
+}
+
+void setCpuThreadsFromOption(int threads) { setCpuThreads(threads); }
+
+int runCli(int argc, char** argv) {
+    CLI::App app{"octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
+                 "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
+    app.require_subcommand(1);
+    registerInfo(app);
+    registerRender(app);
+    registerTrace(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
+        return 2;
+    } catch (const std::exception& e) {
+        std::cerr << "octrace: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace oct

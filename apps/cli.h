@@ -1,0 +1,47 @@
+// The octrace command line: subcommands info, render, trace (and more as they land). Every
+// error reaches the user as one line on stderr and a non-zero exit status.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/octree/accel.h"
+#include "core/scene/scene.h"
+
+namespace oct {
+
+// Runs the command line; returns the process exit status. Never throws.
+int runCli(int argc, char** argv);
+
+// Options every subcommand that builds an octree shares (`octrace info` documents them).
+struct SceneOptions {
+    std::string path;
+    int maxDepth = BuildParams{}.maxDepth;
+    uint32_t maxPrims = BuildParams{}.maxPrims;
+    float radius = 0.0f;
+    uint32_t hashSlots = HashParams{}.bucketSlots;
+    uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
+
+    LoadOptions loadOptions() const;
+    LayoutOptions layoutOptions() const;
+};
+
+void addSceneOptions(CLI::App& cmd, SceneOptions& o);
+// --accel, --backend, --threads for the commands that trace.
+void addBackendOptions(CLI::App& cmd, std::string& accel, std::string& backend, int& threads);
+// Applies --threads (0: leave OpenMP's default, i.e. OMP_NUM_THREADS or all cores).
+void setCpuThreadsFromOption(int threads);
+
+// Parses "x,y,z" into a Vec3; throws CLI::ValidationError naming the option on bad input.
+Vec3 parseVec3(const std::string& option, const std::string& text);
+
+// Subcommand registration: each adds itself to the app and sets its callback.
+void registerInfo(CLI::App& app);
+void registerRender(CLI::App& app);
+void registerTrace(CLI::App& app);
+
+}  // namespace oct

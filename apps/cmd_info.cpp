@@ -1,0 +1,160 @@
+// octrace info: what loading kept and dropped, the octree's shape, and each layout's bytes.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <iostream>
+#include <map>
+
+#include "apps/cli.h"
+#include "core/octree/layouts.h"
+#include "core/scene/load_scene.h"
+
+namespace oct {
+namespace {
+
+struct InfoOptions {
+    SceneOptions scene;
+    bool json = false;
+};
+
+nlohmann::json loadJson(const Scene& s) {
+    const LoadReport& r = s.report;
+    return {{"format", r.format},
+            {"vertices_read", r.verticesRead},
+            {"faces_read", r.facesRead},
+            {"polygons_triangulated", r.polygonsTriangulated},
+            {"dropped",
+             {{"invalid_index", r.droppedInvalidIndex},
+              {"non_finite", r.droppedNonFinite},
+              {"degenerate", r.droppedDegenerate},
+              {"too_few_vertices", r.droppedTooFewVertices},
+              {"total", r.totalDropped()}}}};
+}
+
+nlohmann::json treeJson(const Octree& t) {
+    std::map<std::string, uint64_t> byType;
+    std::vector<std::map<std::string, uint64_t>> byDepth(t.depth + 1);
+    const char* names[] = {"internal", "leaf", "empty_leaf", "invalid"};
+    for (const OctreeNode& n : t.nodes) {
+        ++byType[names[n.type]];
+        ++byDepth[n.depth][names[n.type]];
+    }
+    nlohmann::json depth = nlohmann::json::array();
+    for (int d = 0; d <= t.depth; ++d) depth.push_back(byDepth[d]);
+    return {{"max_depth", t.params.maxDepth},
+            {"effective_max_depth", t.effectiveMaxDepth},
+            {"max_prims", t.params.maxPrims},
+            {"depth", t.depth},
+            {"root", {{"lo", {t.root.lo.x, t.root.lo.y, t.root.lo.z}},
+                      {"hi", {t.root.hi.x, t.root.hi.y, t.root.hi.z}}}},
+            {"nodes", t.nodes.size()},
+            {"nodes_by_type", byType},
+            {"nodes_by_depth", depth},
+            {"octree_faces", t.referenceCount()},
+            {"build_seconds", t.buildSeconds}};
+}
+
+nlohmann::json layoutsJson(const Octree& t, const HashOctree& h, double hashSeconds) {
+    uint64_t indexBytes = t.primIndices.size() * sizeof(uint32_t);
+    return {{"linear",
+             {{"nodes", linearNodeCount(t.depth)},
+              {"node_bytes", linearBytes(t.depth)},
+              {"bytes", linearBytes(t.depth) + indexBytes}}},
+            {"hash",
+             {{"buckets_m", h.bucketCount},
+              {"slots_per_bucket_B", h.bucketSlots},
+              {"max_bucket_occupancy", h.maxOccupancy},
+              {"mean_bucket_occupancy", h.meanOccupancy},
+              {"grow_steps", h.growSteps},
+              {"node_bytes", h.slots.size() * sizeof(OctreeNode)},
+              {"bytes", h.slots.size() * sizeof(OctreeNode) + indexBytes},
+              {"build_seconds", hashSeconds}}},
+            {"leaf_index_bytes", indexBytes},
+            {"node_record_bytes", sizeof(OctreeNode)}};
+}
+
+void printHuman(const nlohmann::json& j) {
+    const auto& s = j["scene"];
+    const auto& l = j["load"];
+    const auto& t = j["octree"];
+    const auto& lay = j["layouts"];
+    std::printf("scene        %s\n", s["name"].get<std::string>().c_str());
+    std::printf("primitives   %llu %s (format %s, %llu vertices, %llu faces read)\n",
+                (unsigned long long)s["primitives"], s["kind"].get<std::string>().c_str(),
+                l["format"].get<std::string>().c_str(), (unsigned long long)l["vertices_read"],
+                (unsigned long long)l["faces_read"]);
+    const auto& d = l["dropped"];
+    std::printf("dropped      %llu (invalid index %llu, non-finite %llu, degenerate %llu, "
+                "<3 vertices %llu); polygons triangulated %llu\n",
+                (unsigned long long)d["total"], (unsigned long long)d["invalid_index"],
+                (unsigned long long)d["non_finite"], (unsigned long long)d["degenerate"],
+                (unsigned long long)d["too_few_vertices"],
+                (unsigned long long)l["polygons_triangulated"]);
+    std::printf("octree       depth %d (max %d, max-prims %u), %llu nodes, built in %.3f s\n",
+                t["depth"].get<int>(), t["effective_max_depth"].get<int>(),
+                t["max_prims"].get<unsigned>(), (unsigned long long)t["nodes"],
+                t["build_seconds"].get<double>());
+    std::printf("  by type    ");
+    for (auto& [k, v] : t["nodes_by_type"].items())
+        std::printf("%s %llu  ", k.c_str(), (unsigned long long)v);
+    std::printf("\n  by depth   depth: internal/leaf/empty\n");
+    int depth = 0;
+    for (const auto& lvl : t["nodes_by_depth"]) {
+        std::printf("             %2d: %llu/%llu/%llu\n", depth++,
+                    (unsigned long long)lvl.value("internal", 0ull),
+                    (unsigned long long)lvl.value("leaf", 0ull),
+                    (unsigned long long)lvl.value("empty_leaf", 0ull));
+    }
+    std::printf("octree faces %llu (primitive references in leaves; %.2f per primitive)\n",
+                (unsigned long long)t["octree_faces"],
+                double(t["octree_faces"].get<uint64_t>()) / double(s["primitives"].get<uint64_t>()));
+    std::printf("linear       %llu nodes, %.2f MiB (incl. leaf index array)\n",
+                (unsigned long long)lay["linear"]["nodes"],
+                lay["linear"]["bytes"].get<double>() / 1048576.0);
+    const auto& h = lay["hash"];
+    std::printf("hash         m %llu, B %u, max occupancy %u, mean %.2f, %.2f MiB, built in %.3f s\n",
+                (unsigned long long)h["buckets_m"], h["slots_per_bucket_B"].get<unsigned>(),
+                h["max_bucket_occupancy"].get<unsigned>(),
+                h["mean_bucket_occupancy"].get<double>(), h["bytes"].get<double>() / 1048576.0,
+                h["build_seconds"].get<double>());
+    std::printf("exhaustive   %.2f MiB of primitives, no tree\n",
+                j["scene"]["primitive_bytes"].get<double>() / 1048576.0);
+}
+
+void runInfo(const InfoOptions& o) {
+    Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
+    LayoutOptions lo = o.scene.layoutOptions();
+    Octree tree = buildOctree(scene, lo.build);
+    auto start = std::chrono::steady_clock::now();
+    HashOctree hash = buildHash(tree, lo.hash);
+    double hashSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    bool tris = scene.kind == PrimKind::Triangles;
+    nlohmann::json j;
+    j["scene"] = {{"name", scene.name},
+                  {"kind", tris ? "triangles" : "spheres"},
+                  {"primitives", scene.primitiveCount()},
+                  {"primitive_bytes",
+                   uint64_t(scene.primitiveCount()) * (tris ? sizeof(Triangle) : sizeof(Sphere))}};
+    if (!tris && !scene.spheres.empty()) j["scene"]["radius"] = scene.spheres[0].radius;
+    j["load"] = loadJson(scene);
+    j["octree"] = treeJson(tree);
+    j["layouts"] = layoutsJson(tree, hash, hashSeconds);
+    if (o.json)
+        std::cout << j.dump(2) << "\n";
+    else
+        printHuman(j);
+}
+
+}  // namespace
+
+void registerInfo(CLI::App& app) {
+    auto opts = std::make_shared<InfoOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "info", "Load a scene, build its octree and report nodes, octree faces and layout bytes");
+    addSceneOptions(*cmd, opts->scene);
+    cmd->add_flag("--json", opts->json, "Print one JSON object instead of text");
+    cmd->callback([opts] { runInfo(*opts); });
+}
+
+}  // namespace oct
