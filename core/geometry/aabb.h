@@ -61,12 +61,12 @@ OCT_HD inline bool intersectSlab(float o, float inv, float lo, float hi, float& 
     if (std::isinf(inv)) return o >= lo && o <= hi;
     float ta = (lo - o) * inv;
     float tb = (hi - o) * inv;
-    float tNear = fminf(ta, tb);
+    float tNear = minf(ta, tb);
     // Ize 2013, "Robust BVH Ray Traversal": scaling the far distance by 1 + 2*gamma(3) makes the
     // rounded slab interval contain the exact one, so a ray grazing a node's face is never culled.
-    float tFar = fmaxf(ta, tb) * kSlabFarScale;
-    t0 = fmaxf(t0, tNear);
-    t1 = fminf(t1, tFar);
+    float tFar = maxf(ta, tb) * kSlabFarScale;
+    t0 = maxf(t0, tNear);
+    t1 = minf(t1, tFar);
     return true;
 }
 

@@ -17,6 +17,12 @@ struct Vec3 {
 };
 static_assert(sizeof(Vec3) == 12, "Vec3 must be three packed floats");
 
+// Compare-and-select min/max. Unlike fminf/fmaxf, which GCC calls in libm rather than inline
+// (their NaN rules differ from minss/maxss), these compile to one instruction on both host and
+// device. Callers guarantee non-NaN operands (the slab test never forms 0 * inf).
+OCT_HD inline float minf(float a, float b) { return b < a ? b : a; }
+OCT_HD inline float maxf(float a, float b) { return a < b ? b : a; }
+
 OCT_HD inline Vec3 makeVec3(float s) { return {s, s, s}; }
 OCT_HD inline Vec3 operator+(Vec3 a, Vec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 OCT_HD inline Vec3 operator-(Vec3 a, Vec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
