@@ -55,11 +55,13 @@ CameraOptions cameraOptions(const RenderOptions& o) {
     return c;
 }
 
+// Every requested file, all or none (OutputSet): a failure leaves existing files untouched.
 void writeOutputs(const RenderOptions& o, const Film& f) {
     std::vector<uint64_t> shape = {uint64_t(f.height), uint64_t(f.width)};
-    writePng(o.out, f.width, f.height, f.rgb);
-    if (!o.depthOut.empty()) writeNpy(o.depthOut, "<f4", shape, f.t.data(), 4);
-    if (!o.primOut.empty()) writeNpy(o.primOut, "<i4", shape, f.prim.data(), 4);
+    OutputSet out;
+    out.stage(o.out, encodePng(o.out, f.width, f.height, f.rgb));
+    if (!o.depthOut.empty()) out.stage(o.depthOut, encodeNpy("<f4", shape, f.t.data(), 4));
+    if (!o.primOut.empty()) out.stage(o.primOut, encodeNpy("<i4", shape, f.prim.data(), 4));
     if (!o.costOut.empty()) {
         // (H, W, 2) int32: nodes visited, primitives tested (primary + shadow ray).
         std::vector<int32_t> cost(f.pixelCount() * 2);
@@ -67,8 +69,16 @@ void writeOutputs(const RenderOptions& o, const Film& f) {
             cost[2 * i] = int32_t(f.nodes[i]);
             cost[2 * i + 1] = int32_t(f.primsTested[i]);
         }
-        writeNpy(o.costOut, "<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4);
+        out.stage(o.costOut,
+                  encodeNpy("<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4));
     }
+    out.commit();
+}
+
+// Before any heavy work: every output folder must take a new file.
+void checkOutputs(const RenderOptions& o) {
+    for (const std::string* p : {&o.out, &o.depthOut, &o.primOut, &o.costOut})
+        if (!p->empty()) checkWritable(*p);
 }
 
 // Traces the same frame with Embree and prints the per-pixel agreement (validation policy of
@@ -93,7 +103,7 @@ void runRender(const RenderOptions& o) {
     Layout layout = parseLayout(o.accel);
     std::string note;
     Backend backend = resolveBackend(o.backend, note);
-    if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
+    checkOutputs(o);
     setCpuThreadsFromOption(o.threads);
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
@@ -112,6 +122,7 @@ void runRender(const RenderOptions& o) {
     std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(),
                 scene.primitiveCount(), accelName, backendName(backend), frame.width,
                 frame.height);
+    if (!note.empty()) std::printf("%s\n", note.c_str());
     std::printf("build   %.3f s\n", t.buildSeconds);
     std::printf("frame   %.3f s\n", t.frameSeconds);
     double s = t.frameSeconds > 0 ? t.frameSeconds : 1e-9;

@@ -46,7 +46,7 @@ void runTrace(const TraceOptions& o) {
     Layout layout = parseLayout(o.accel);
     std::string note;
     Backend backend = resolveBackend(o.backend, note);
-    if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
+    checkWritable(o.out + ".t.npy");
     setCpuThreadsFromOption(o.threads);
     std::vector<float> rays = loadRays(o.rays);
     uint64_t n = rays.size() / 8;
@@ -57,8 +57,11 @@ void runTrace(const TraceOptions& o) {
     std::vector<float> t(n);
     std::vector<int32_t> prim(n);
     double seconds = traceWith(backend, bs, {rays.data(), t.data(), prim.data(), n});
-    writeNpy(o.out + ".t.npy", "<f4", {n}, t.data(), 4);
-    writeNpy(o.out + ".prim.npy", "<i4", {n}, prim.data(), 4);
+    OutputSet out;  // both files or neither
+    out.stage(o.out + ".t.npy", encodeNpy("<f4", {n}, t.data(), 4));
+    out.stage(o.out + ".prim.npy", encodeNpy("<i4", {n}, prim.data(), 4));
+    out.commit();
+    if (!note.empty()) std::printf("%s\n", note.c_str());
     uint64_t hits = 0;
     for (int32_t p : prim) hits += p >= 0;
     std::printf("%llu rays, %llu hits, %s on %s, %.3f s (%.3f Mrays/s)\n", (unsigned long long)n,

@@ -75,8 +75,8 @@ std::vector<uint64_t> parseShape(const std::string& s, const std::string& path) 
 
 }  // namespace
 
-void writeNpy(const std::string& path, const std::string& descr,
-              const std::vector<uint64_t>& shape, const void* data, size_t elementSize) {
+std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint64_t>& shape,
+                               const void* data, size_t elementSize) {
     if (descrSize(descr) != elementSize)
         throw IoError("internal: .npy dtype " + descr + " does not match element size");
     uint64_t count = 1;
@@ -91,7 +91,12 @@ void writeNpy(const std::string& path, const std::string& descr,
     bytes.insert(bytes.end(), header.begin(), header.end());
     const auto* p = static_cast<const uint8_t*>(data);
     bytes.insert(bytes.end(), p, p + count * elementSize);
-    writeFileAtomic(path, bytes);
+    return bytes;
+}
+
+void writeNpy(const std::string& path, const std::string& descr,
+              const std::vector<uint64_t>& shape, const void* data, size_t elementSize) {
+    writeFileAtomic(path, encodeNpy(descr, shape, data, elementSize));
 }
 
 NpyArray readNpy(const std::string& path) {

@@ -20,7 +20,11 @@ struct NpyArray {
     uint64_t elementCount() const;
 };
 
-// Writes atomically (output_file.h). descr and the element size must match.
+// The complete file's bytes. descr and the element size must match.
+std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint64_t>& shape,
+                               const void* data, size_t elementSize);
+
+// Writes atomically (output_file.h).
 void writeNpy(const std::string& path, const std::string& descr,
               const std::vector<uint64_t>& shape, const void* data, size_t elementSize);
 

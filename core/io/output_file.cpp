@@ -9,8 +9,14 @@
 
 namespace oct {
 
-void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
-    std::string tmp = path + ".tmp." + std::to_string(::getpid());
+namespace {
+
+std::string tempNameFor(const std::string& path) {
+    return path + ".tmp." + std::to_string(::getpid());
+}
+
+// Writes bytes to tmp; on failure removes it and throws naming the target path.
+void writeTemp(const std::string& path, const std::string& tmp, const void* data, size_t bytes) {
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f)
         throw IoError("cannot write '" + path + "': " + std::strerror(errno) +
@@ -22,14 +28,52 @@ void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
         std::remove(tmp.c_str());
         throw IoError("cannot write '" + path + "': " + std::strerror(err ? err : EIO));
     }
+}
+
+void renameInto(const std::string& tmp, const std::string& path) {
     if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        err = errno;
+        int err = errno;
         std::remove(tmp.c_str());
         throw IoError("cannot replace '" + path + "': " + std::strerror(err));
     }
 }
 
+}  // namespace
+
+void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
+    std::string tmp = tempNameFor(path);
+    writeTemp(path, tmp, data, bytes);
+    renameInto(tmp, path);
+}
+
+OutputSet::~OutputSet() {
+    for (const Staged& s : staged_) std::remove(s.tmp.c_str());
+}
+
+void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
+    std::string tmp = tempNameFor(path);
+    writeTemp(path, tmp, data, bytes);
+    staged_.push_back({path, tmp});
+}
+
+void OutputSet::commit() {
+    // Renames cannot fail for lack of space; what can fail (a vanished folder) is reported, and
+    // the temporaries not yet renamed are removed by the destructor.
+    while (!staged_.empty()) {
+        Staged s = staged_.front();
+        staged_.erase(staged_.begin());
+        renameInto(s.tmp, s.path);
+    }
+}
+
+void checkWritable(const std::string& path) {
+    std::string tmp = tempNameFor(path);
+    writeTemp(path, tmp, "", 0);
+    std::remove(tmp.c_str());
+}
+
 namespace {
+
 void appendBytes(void* context, void* data, int size) {
     auto* out = static_cast<std::vector<uint8_t>*>(context);
     auto* p = static_cast<uint8_t*>(data);
@@ -37,11 +81,16 @@ void appendBytes(void* context, void* data, int size) {
 }
 }  // namespace
 
-void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+std::vector<uint8_t> encodePng(const std::string& path, int width, int height,
+                               const std::vector<uint8_t>& rgb) {
     std::vector<uint8_t> png;
     if (!stbi_write_png_to_func(appendBytes, &png, width, height, 3, rgb.data(), width * 3))
         throw IoError("cannot encode the PNG for '" + path + "'");
-    writeFileAtomic(path, png);
+    return png;
+}
+
+void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
+    writeFileAtomic(path, encodePng(path, width, height, rgb));
 }
 
 }  // namespace oct
