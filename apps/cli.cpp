@@ -77,6 +77,11 @@ int runCli(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        // Layout builders name their own sizes; this is whatever else ran out (a film, a scene).
+        std::cerr << "octrace: error: out of memory (std::bad_alloc): try a smaller --size, "
+                     "--max-depth or scene\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "octrace: error: " << e.what() << "\n";
         return 1;

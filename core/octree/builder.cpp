@@ -17,6 +17,9 @@ V3<double> toV3d(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
 // a lost leaf would lose hits. Inputs are floats, exactly representable in double.
 constexpr double kOverlapPad = 1e-9;
 
+// Leaf lists plus the level being built may hold at most 2^30 references (4 GiB of indices).
+constexpr uint64_t kMaxReferences = uint64_t(1) << 30;
+
 struct PendingNode {
     uint64_t key;
     Aabb box;
@@ -116,6 +119,7 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
 
     while (!level.empty()) {
         std::vector<PendingNode> next;
+        uint64_t pendingRefs = 0;
         for (PendingNode& p : level) {
             bool split = p.prims.size() > params.maxPrims && p.depth < tree.effectiveMaxDepth;
             if (split) {
@@ -124,6 +128,12 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
                 for (int i = 0; i < 8; ++i) {
                     PendingNode c{childKey(p.key, i), childBox(p.box, i), p.depth + 1, {}};
                     c.prims = overlapping(scene, p.prims, c.box);
+                    // Large primitives replicate into most nodes: refuse before memory runs out.
+                    if ((pendingRefs += c.prims.size()) + tree.primIndices.size() > kMaxReferences)
+                        throw OctreeError("octree of '" + scene.name + "' needs more than " +
+                                          std::to_string(kMaxReferences) +
+                                          " primitive references (4 GiB): lower --max-depth or "
+                                          "raise --max-prims");
                     next.push_back(std::move(c));
                 }
             } else {

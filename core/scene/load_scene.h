@@ -17,8 +17,12 @@
 // Sphere radius of point clouds: LoadOptions::radius when > 0, else defaultPointRadius().
 //
 // Every failure is a SceneError with a one-line message naming the path, the reason and what to
-// do: missing or unreadable file, a directory, an unknown extension, a file OpenMesh cannot
-// read or that its reader would misread, or a scene left without a single usable primitive.
+// do: missing or unreadable file, a directory or other non-regular file, an unknown extension, a
+// file OpenMesh cannot read or that its reader would misread, hang on or crash on, a header
+// count the file's bytes cannot hold (checked before anything is sized from it), a truncated
+// file, coordinates beyond kMaxSceneCoordinate, or a scene left without a single usable
+// primitive. Running out of memory is a SceneError too. docs/ROBUSTNESS.md lists the malformed
+// inputs this is tested and fuzzed against (tests/data/bad/).
 //
 // Safe to call from several threads: reads through OpenMesh are serialised by a lock, because its
 // readers are process-wide singletons with per-read state.
@@ -30,6 +34,12 @@
 #include "core/scene/scene.h"
 
 namespace oct {
+
+// Loaded scenes must keep every coordinate (a sphere's centre plus its radius) within
+// +-kMaxSceneCoordinate: beyond it, the padded root cube, the camera placed from the bounds and
+// the products of two coordinates in the intersection tests leave float range (FLT_MAX is
+// about (1.8e19)^2). Generated grid clouds lie in the unit cube.
+constexpr double kMaxSceneCoordinate = 1e18;
 
 Scene loadScene(const std::string& path, const LoadOptions& opts = {});
 

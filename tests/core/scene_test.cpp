@@ -270,7 +270,7 @@ TEST_F(SceneFiles, TruncatedFilesAreRefused) {
     expectError(off, "truncated");
     Bytes b;  // the binary reader notices the early end itself
     b.text(plyHeader("binary_little_endian")).vec(kA).vec(kB);
-    expectError(write("short_binary.ply", b.data), "cannot read");
+    expectError(write("short_binary.ply", b.data), "truncated");
 }
 
 TEST_F(SceneFiles, OffCommentIsRefusedNotMisread) {

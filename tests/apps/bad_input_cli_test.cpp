@@ -1,0 +1,222 @@
+// The malformed-scene corpus (tests/data/bad/manifest.txt) through the `octrace` binary, as a
+// user meets it: every file ends in exit status 1 with exactly one line "octrace: error: ..."
+// on stderr naming the file, or in exit status 0 with the expected drop count printed; never a
+// signal, never more than a few seconds. And a failed render leaves no output behind and an
+// existing output untouched.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kBadDir = std::string(OCT_SOURCE_DIR) + "/tests/data/bad";
+const std::string kOctrace = std::string(OCT_BINARY_DIR) + "/octrace";
+
+struct BadFile {
+    std::string file;
+    bool expectError = true;
+    std::string errorText;
+    uint64_t totalDropped = 0;
+};
+
+std::vector<BadFile> readManifest() {
+    std::vector<BadFile> entries;
+    std::ifstream in(kBadDir + "/manifest.txt");
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        const size_t space = line.find(' ');
+        BadFile e;
+        e.file = line.substr(0, space);
+        const std::string expect = space == std::string::npos ? "" : line.substr(space + 1);
+        e.expectError = expect.rfind("ok:", 0) != 0;
+        if (e.expectError) {
+            e.errorText = expect.substr(expect.find(':') + 1);
+        } else {
+            std::istringstream counts(expect.substr(3));
+            std::string item;
+            while (std::getline(counts, item, ','))
+                e.totalDropped += std::stoull(item.substr(item.find('=') + 1));
+        }
+        entries.push_back(e);
+    }
+    return entries;
+}
+
+struct RunResult {
+    bool timedOut = false;
+    int exitCode = -1;  // when it exited
+    int signal = 0;     // when a signal ended it
+    double seconds = 0;
+    std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// Runs octrace with args, stdout and stderr to files in dir, killing it after timeoutSeconds.
+RunResult runOctrace(const std::vector<std::string>& args, const fs::path& dir,
+                     double timeoutSeconds = 20.0) {
+    static std::atomic<int> counter{0};
+    const std::string tag = std::to_string(counter++);
+    const std::string outPath = (dir / ("stdout." + tag)).string();
+    const std::string errPath = (dir / ("stderr." + tag)).string();
+    std::vector<std::string> argv = {kOctrace};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (std::string& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    RunResult r;
+    pid_t pid = 0;
+    const auto start = std::chrono::steady_clock::now();
+    const int rc = posix_spawn(&pid, kOctrace.c_str(), &actions, nullptr, cargv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (rc != 0) {
+        r.err = "posix_spawn failed: " + std::string(std::strerror(rc));
+        return r;
+    }
+    int status = 0;
+    for (;;) {
+        const pid_t done = waitpid(pid, &status, WNOHANG);
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (done == pid) break;
+        if (r.seconds > timeoutSeconds) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            r.timedOut = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!r.timedOut && WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
+    if (!r.timedOut && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+    r.out = slurp(outPath);
+    r.err = slurp(errPath);
+    return r;
+}
+
+class CliDir : public ::testing::Test {
+protected:
+    void SetUp() override {
+        static std::atomic<int> counter{0};
+        dir_ = fs::temp_directory_path() /
+               ("octrace_bad_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+        fs::create_directories(dir_);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    fs::path dir_;
+};
+
+// The one-line error contract of the CLI.
+void expectOneLineError(const RunResult& r, const std::string& path, const std::string& text) {
+    ASSERT_FALSE(r.timedOut) << "killed after " << r.seconds << " s";
+    ASSERT_EQ(r.signal, 0) << "ended by signal " << r.signal << "; stderr: " << r.err;
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.err.rfind("octrace: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+    EXPECT_NE(r.err.find(path), std::string::npos) << "names the file: " << r.err;
+    EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+}
+
+// One corpus file through `octrace info`.
+void checkCorpusFile(const BadFile& e, const fs::path& dir) {
+    const std::string path = kBadDir + "/" + e.file;
+    const RunResult r = runOctrace({"info", path}, dir);
+    EXPECT_LT(r.seconds, 5.0);
+    if (e.expectError) {
+        expectOneLineError(r, path, e.errorText);
+        return;
+    }
+    ASSERT_FALSE(r.timedOut);
+    ASSERT_EQ(r.signal, 0) << r.err;
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find("dropped      " + std::to_string(e.totalDropped) + " ("),
+              std::string::npos)
+        << r.out;
+}
+
+class BadInputCli : public CliDir {};
+
+TEST_F(BadInputCli, EveryCorpusFileExitsWithOneLineErrorOrReportsDrops) {
+    const std::vector<BadFile> entries = readManifest();
+    ASSERT_GE(entries.size(), 50u) << "manifest missing or short: " << kBadDir;
+    for (const BadFile& e : entries) {
+        SCOPED_TRACE(e.file);
+        checkCorpusFile(e, dir_);
+    }
+}
+
+TEST_F(BadInputCli, MissingDirectoryAndFifoAreOneLineErrors) {
+    const std::string missing = (dir_ / "nothing.obj").string();
+    expectOneLineError(runOctrace({"info", missing}, dir_), missing, "No such file");
+    const std::string folder = (dir_ / "folder.ply").string();
+    fs::create_directories(folder);
+    expectOneLineError(runOctrace({"info", folder}, dir_), folder, "directory");
+    const std::string fifo = (dir_ / "pipe.stl").string();
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    expectOneLineError(runOctrace({"info", fifo}, dir_), fifo, "not a regular file");
+}
+
+// A render that fails (here: on a bad scene) writes nothing, and leaves an existing output as
+// it was; no temporary file is left beside it.
+TEST_F(BadInputCli, FailedRenderLeavesNoPartialOrReplacedOutput) {
+    const std::string bad = kBadDir + "/ply_truncated_binary_faces.ply";
+    const fs::path png = dir_ / "out" / "image.png";
+    const fs::path depth = dir_ / "out" / "depth.npy";
+    fs::create_directories(png.parent_path());
+    std::ofstream(png, std::ios::binary) << "previous image";
+    RunResult r = runOctrace({"render", bad, "--out", png.string(), "--depth", depth.string(),
+                              "--size", "16x16", "--backend", "cpu"},
+                             dir_);
+    expectOneLineError(r, bad, "truncated");
+    EXPECT_EQ(slurp(png.string()), "previous image");
+    EXPECT_FALSE(fs::exists(depth));
+    size_t entries = 0;
+    for (const auto& entry : fs::directory_iterator(png.parent_path())) {
+        ++entries;
+        EXPECT_EQ(entry.path().filename(), "image.png") << "left behind: " << entry.path();
+    }
+    EXPECT_EQ(entries, 1u);
+    // The same with a good scene replaces the file with a complete PNG.
+    r = runOctrace({"render", std::string(OCT_SOURCE_DIR) + "/meshes/cube_binary.ply", "--out",
+                    png.string(), "--size", "16x16", "--backend", "cpu"},
+                   dir_);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(slurp(png.string()).substr(1, 3), "PNG");
+}
+
+}  // namespace
