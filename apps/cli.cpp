@@ -21,6 +21,7 @@ LayoutOptions SceneOptions::layoutOptions() const {
     o.build.maxDepth = maxDepth;
     o.build.maxPrims = maxPrims;
     o.hash.bucketSlots = hashSlots;
+    o.hash.budgetBytes = hashBudgetMiB << 20;
     o.linearBudget = linearBudgetMiB << 20;
     return o;
 }
@@ -45,6 +46,10 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
         ->check(CLI::Range(1u, 64u));
     cmd.add_option("--linear-budget", o.linearBudgetMiB,
                    "Largest linear octree to allocate, MiB")
+        ->capture_default_str()
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+    cmd.add_option("--hash-budget", o.hashBudgetMiB,
+                   "Largest hash octree (m * B slots) to allocate, MiB")
         ->capture_default_str()
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
 }

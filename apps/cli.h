@@ -25,6 +25,7 @@ struct SceneOptions {
     float radius = 0.0f;
     uint32_t hashSlots = HashParams{}.bucketSlots;
     uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
+    uint64_t hashBudgetMiB = kDefaultHashBudget >> 20;
 
     LoadOptions loadOptions() const;
     LayoutOptions layoutOptions() const;

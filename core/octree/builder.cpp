@@ -63,8 +63,10 @@ void checkParams(const Scene& scene, const BuildParams& params) {
 }  // namespace
 
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
-    V3<double> c = toV3d(box.center());
+    // Centre and half-size in double: a float centre can be off by half an ulp, which moves the
+    // box and loses a triangle lying exactly in a face (spider.obj lost 42 references so).
     V3<double> lo = toV3d(box.lo), hi = toV3d(box.hi);
+    V3<double> c = {(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5};
     V3<double> h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
     double pad = kOverlapPad * std::max({h.x, h.y, h.z});
     h = {h.x + pad, h.y + pad, h.z + pad};

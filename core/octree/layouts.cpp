@@ -105,21 +105,46 @@ bool fits(const Octree& tree, uint64_t m, uint32_t B, std::vector<uint32_t>& fil
 HashOctree buildHash(const Octree& tree, const HashParams& params) {
     if (params.bucketSlots == 0)
         throw OctreeError("--hash-slots 0: each bucket needs at least one slot");
+    const uint32_t B = params.bucketSlots;
+    const uint64_t slotBytes = uint64_t(B) * sizeof(OctreeNode);
+    auto overBudget = [&](uint64_t m, bool grown) {
+        std::string head = "hash octree of " + std::to_string(tree.nodes.size()) + " nodes: ";
+        std::string need = "m = " + std::to_string(m) + " buckets of B = " + std::to_string(B) +
+                           " slots, " + mib(m * slotBytes);
+        return OctreeError(head +
+                           (grown ? "a bucket still overflows at every m within the budget of " +
+                                        mib(params.budgetBytes) + "; the next try is " + need
+                                  : "needs " + need + ", over the budget of " +
+                                        mib(params.budgetBytes)) +
+                           ": raise --hash-slots, lower --max-depth, or raise --hash-budget");
+    };
     HashOctree h;
-    h.bucketSlots = params.bucketSlots;
-    uint64_t n = tree.nodes.size();
-    uint64_t m = nextPrime(std::max<uint64_t>(1, (n + params.bucketSlots - 1) / params.bucketSlots));
+    h.bucketSlots = B;
+    const uint64_t n = tree.nodes.size();
+    // Start at the load factor B (every slot used) and grow m by 1.25 until no bucket of
+    // h(k) = k mod m overflows (the paper keeps collisions in the bucket's list, never rehashes
+    // into other buckets).
+    uint64_t m = nextPrime(std::max<uint64_t>(1, (n + B - 1) / B));
     std::vector<uint32_t> fill;
-    while (!fits(tree, m, params.bucketSlots, fill)) {
-        m = nextPrime(m + std::max<uint64_t>(1, m / 4));
-        ++h.growSteps;
+    try {
+        while (true) {
+            if (m > params.budgetBytes / slotBytes)
+                throw overBudget(m, h.growSteps > 0);
+            if (fits(tree, m, B, fill)) break;
+            m = nextPrime(m + std::max<uint64_t>(1, m / 4));
+            ++h.growSteps;
+        }
+        h.bucketCount = m;
+        h.slots.assign(m * B, OctreeNode{});  // key 0 marks an unused slot
+    } catch (const std::bad_alloc&) {
+        throw OctreeError("hash octree: out of memory allocating m = " + std::to_string(m) +
+                          " buckets (" + mib(m * slotBytes) +
+                          "): lower --hash-budget or --max-depth");
     }
-    h.bucketCount = m;
-    h.slots.assign(m * params.bucketSlots, OctreeNode{});  // key 0 marks an unused slot
     std::vector<uint32_t> used(m, 0);
     for (const OctreeNode& node : tree.nodes) {
         uint64_t b = node.key % m;
-        h.slots[b * params.bucketSlots + used[b]++] = node;
+        h.slots[b * B + used[b]++] = node;
     }
     uint64_t nonEmpty = 0;
     for (uint32_t f : fill) {

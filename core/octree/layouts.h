@@ -32,8 +32,14 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes = kDefaultLine
 LinearOctreeView linearView(const LinearOctree& lin, const Octree& tree, PrimitivesView prims);
 
 // --- hash -----------------------------------------------------------------------------------
+// Default memory budget for the hash layout's m * B slots: 4 GiB.
+constexpr uint64_t kDefaultHashBudget = 4ull << 30;
+
 struct HashParams {
     uint32_t bucketSlots = 4;  // B: the fixed-size list each bucket keeps instead of rehashing
+    // m grows until no bucket holds more than B keys; a small B can need m far above the node
+    // count (B = 1 is a perfect hash: m ~ n^2 / 2). Past this budget buildHash refuses.
+    uint64_t budgetBytes = kDefaultHashBudget;
 };
 
 struct HashOctree {

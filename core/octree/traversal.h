@@ -56,7 +56,8 @@ OCT_HD inline void considerPrimitive(const PrimitivesView& p, uint32_t i, const 
     float t;
     ++cost.primsTested;
     if (!intersectPrimitive(p, i, q, best.t, t)) return;
-    if (t < best.t || (t == best.t && static_cast<int32_t>(i) < best.prim)) {
+    // best starts at (tmax, no primitive): the first hit at exactly tmax must still count.
+    if (best.prim < 0 || t < best.t || (t == best.t && static_cast<int32_t>(i) < best.prim)) {
         best.t = t;
         best.prim = static_cast<int32_t>(i);
     }

@@ -469,6 +469,10 @@ TEST_F(Cli, InfoErrorsAreOneLine) {
     EXPECT_FAILS_CLEANLY("info " + quote(kTeapot) + " --max-depth 22");
     EXPECT_FAILS_CLEANLY("info " + quote(kTeapot) + " --max-prims 0");
     EXPECT_FAILS_CLEANLY("info grid:0");
+    // The teapot's hash layout with one slot per bucket does not fit in 1 MiB: refused by name.
+    const std::string tight = "info " + quote(kTeapot) + " --hash-slots 1 --hash-budget 1";
+    EXPECT_FAILS_CLEANLY(tight);
+    EXPECT_NE(run(tight).err.find("--hash-budget"), std::string::npos);
 }
 
 TEST_F(Cli, TraceErrorsAreOneLineAndWriteNothing) {
