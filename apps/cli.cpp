@@ -73,6 +73,7 @@ int runCli(int argc, char** argv) {
     registerInfo(app);
     registerRender(app);
     registerTrace(app);
+    registerValidate(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

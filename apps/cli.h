@@ -44,5 +44,6 @@ Vec3 parseVec3(const std::string& option, const std::string& text);
 void registerInfo(CLI::App& app);
 void registerRender(CLI::App& app);
 void registerTrace(CLI::App& app);
+void registerValidate(CLI::App& app);
 
 }  // namespace oct

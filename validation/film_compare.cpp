@@ -35,8 +35,9 @@ void keepWorst(FilmComparison& c) {
         double d = std::fabs(double(m.tA) - double(m.tB));
         return std::isnan(d) ? INFINITY : d;  // hit/miss pairs (inf - t) sort first
     };
-    std::stable_sort(c.worst.begin(), c.worst.end(),
-                     [&](const PixelMismatch& a, const PixelMismatch& b) { return key(a) > key(b); });
+    std::stable_sort(
+        c.worst.begin(), c.worst.end(),
+        [&](const PixelMismatch& a, const PixelMismatch& b) { return key(a) > key(b); });
     if (c.worst.size() > 16) c.worst.resize(16);
 }
 

@@ -24,12 +24,12 @@ struct PixelMismatch {
 struct FilmComparison {
     uint64_t pixels = 0;
     uint64_t bothMiss = 0;
-    uint64_t bothHitAgree = 0;     // |dt| within tolerance, same primitive
-    uint64_t ties = 0;             // |dt| within tolerance, different primitive
-    uint64_t hitMissMismatch = 0;  // one hit, the other missed
-    uint64_t distanceMismatch = 0; // both hit, |dt| beyond tolerance
-    uint64_t shadowMismatch = 0;   // shadow ray outcome differs where both traced one
-    double maxRelativeDt = 0.0;    // over pixels both hit, |dt| / extent
+    uint64_t bothHitAgree = 0;         // |dt| within tolerance, same primitive
+    uint64_t ties = 0;                 // |dt| within tolerance, different primitive
+    uint64_t hitMissMismatch = 0;      // one hit, the other missed
+    uint64_t distanceMismatch = 0;     // both hit, |dt| beyond tolerance
+    uint64_t shadowMismatch = 0;       // shadow ray outcome differs where both traced one
+    double maxRelativeDt = 0.0;        // over pixels both hit, |dt| / extent
     std::vector<PixelMismatch> worst;  // up to 16 mismatching pixels, largest |dt| first
 
     uint64_t agreeing() const { return bothMiss + bothHitAgree + ties; }

@@ -1,0 +1,231 @@
+// octrace validate: every chosen layout on every chosen backend against Embree, per pixel
+// (primary and shadow rays) and per ray of seeded ray sets, plus the replication check of the
+// canonical octree against CGAL's exact test (docs/VALIDATION.md). Exit status 0 only on PASS.
+// `octrace validate --table1` prints the paper's Table 1 for the committed and fetched meshes.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "apps/backend.h"
+#include "apps/cli.h"
+#include "core/scene/load_scene.h"
+#include "cpu_ref/render_cpu.h"
+#include "validation/diff_image.h"
+#include "validation/report.h"
+#include "validation/table1.h"
+#include "validation/validate.h"
+
+namespace oct {
+namespace {
+
+struct ValidateCliOptions {
+    SceneOptions scene;
+    std::string accel = "linear,hash";
+    std::string backend = "cpu";
+    std::string size = "256x256";
+    uint64_t rays = ValidateOptions{}.rays;
+    uint64_t seed = ValidateOptions{}.seed;
+    std::string json, diffImage;
+    ValidationPolicy policy;
+    bool noReplication = false;
+    bool table1 = false;
+    std::string meshes = "meshes";
+    int threads = 0;
+};
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream in(s);
+    std::string item;
+    while (std::getline(in, item, ','))
+        if (!item.empty()) out.push_back(item);
+    return out;
+}
+
+std::vector<Layout> parseLayouts(const std::string& text) {
+    std::vector<Layout> out;
+    for (const std::string& name : splitList(text)) {
+        if (name == "all") {
+            out = {Layout::Exhaustive, Layout::Linear, Layout::Hash};
+            continue;
+        }
+        Layout l = parseLayout(name);
+        if (std::find(out.begin(), out.end(), l) == out.end()) out.push_back(l);
+    }
+    if (out.empty()) throw std::runtime_error("--accel '" + text + "' names no layout");
+    return out;
+}
+
+std::vector<Backend> parseBackends(const std::string& text) {
+    std::vector<Backend> out;
+    for (const std::string& name : splitList(text)) {
+        if (name == "embree")
+            throw std::runtime_error(
+                "--backend embree: Embree is the reference validate "
+                "compares against; use cpu or cuda");
+        std::string note;
+        Backend b = resolveBackend(name, note);  // throws cleanly for cuda without a device
+        if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
+        if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
+    }
+    if (out.empty()) throw std::runtime_error("--backend '" + text + "' names no backend");
+    return out;
+}
+
+void parseSize(const std::string& text, int& w, int& h) {
+    unsigned long long a = 0, b = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
+        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
+        text.find('-') != std::string::npos)
+        throw FrameError("--size '" + text + "' must be WxH with 1 <= W, H <= " +
+                         std::to_string(kMaxImageSide) + " (e.g. 256x256)");
+    w = int(a);
+    h = int(b);
+}
+
+void writeText(const std::string& path, const std::string& text) {
+    if (path == "-") {
+        std::cout << text;
+        return;
+    }
+    std::ofstream out(path);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+// diff.png for one run; with several runs, diff-LAYOUT-BACKEND.png.
+std::string diffPath(const std::string& path, const RunReport& run, size_t runs) {
+    if (runs == 1) return path;
+    size_t dot = path.rfind('.');
+    size_t slash = path.rfind('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) dot = path.size();
+    return path.substr(0, dot) + "-" + run.layout + "-" + run.backend + path.substr(dot);
+}
+
+void runTable1(const ValidateCliOptions& o) {
+    std::vector<Table1Row> rows;
+    for (const std::string& path : table1Meshes(o.meshes))
+        rows.push_back(table1Row(path, o.scene.layoutOptions().build));
+    std::printf("Table 1 (max depth %d, max prims %u)\n%s", o.scene.maxDepth, o.scene.maxPrims,
+                humanTable1(rows).c_str());
+    if (!o.json.empty()) writeText(o.json, toJson(rows).dump(2) + "\n");
+}
+
+void runValidate(const ValidateCliOptions& o) {
+    if (o.table1) return runTable1(o);
+    if (o.scene.path.empty())
+        throw std::runtime_error("validate needs a SCENE (or --table1); see --help");
+    std::vector<Layout> layouts = parseLayouts(o.accel);
+    std::vector<Backend> backends = parseBackends(o.backend);
+    setCpuThreadsFromOption(o.threads);
+    ValidateOptions vo;
+    parseSize(o.size, vo.camera.width, vo.camera.height);
+    vo.rays = o.rays;
+    vo.seed = o.seed;
+    vo.policy = o.policy;
+    vo.replication = !o.noReplication;
+
+    Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
+    if (scene.report.totalDropped() > 0)
+        std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
+                     (unsigned long long)scene.report.totalDropped());
+    LayoutOptions lo = o.scene.layoutOptions();
+    std::vector<std::unique_ptr<BuiltScene>> built;
+    std::vector<TracerUnderTest> tracers;
+    for (Layout l : layouts) {
+        built.push_back(std::make_unique<BuiltScene>(buildScene(scene, l, lo)));
+        const BuiltScene* bs = built.back().get();
+        for (Backend b : backends)
+            tracers.push_back(
+                {layoutName(l), backendName(b),
+                 [bs, b](const FrameParams& p, Film& film) { renderWith(b, p, *bs, film); },
+                 [bs, b](RayBatchView batch) { traceWith(b, *bs, batch); }});
+    }
+    // The canonical octree every octree layout was converted from (any built one will do: the
+    // build is deterministic); exhaustive-only runs build it just for the replication check.
+    const Octree* canonical = nullptr;
+    Octree own;
+    for (const auto& bs : built)
+        if (bs->layout != Layout::Exhaustive) canonical = &bs->tree;
+    if (!canonical && vo.replication) {
+        own = buildOctree(scene, lo.build);
+        canonical = &own;
+    }
+
+    ValidationReport rep = validateScene(scene, tracers, canonical, vo);
+    std::fputs(humanSummary(rep).c_str(), stdout);
+    if (!o.json.empty()) writeText(o.json, toJson(rep).dump(2) + "\n");
+    if (!o.diffImage.empty())
+        for (const RunReport& run : rep.runs) {
+            std::string path = diffPath(o.diffImage, run, rep.runs.size());
+            writeDiffImage(path, run.film, rep.policy.tTolerance);
+            std::printf("wrote    %s\n", path.c_str());
+        }
+    std::fflush(stdout);
+    if (!rep.passes())
+        throw std::runtime_error("validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
+                                 std::to_string(rep.ambiguous()) + " ambiguous" +
+                                 (rep.replication && !rep.replication->passes()
+                                      ? ", " + std::to_string(rep.replication->falseNegatives) +
+                                            " replication false negatives"
+                                      : std::string()) +
+                                 " (see the report above)");
+}
+
+}  // namespace
+
+void registerValidate(CLI::App& app) {
+    auto o = std::make_shared<ValidateCliOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "validate",
+        "Check layouts and backends against Embree per pixel and per ray, and the octree's "
+        "leaf lists against an exact overlap test (docs/VALIDATION.md); exit 0 only on PASS");
+    addSceneOptions(*cmd, o->scene);
+    cmd->get_option("scene")->required(false);  // not needed with --table1
+    cmd->add_option(
+           "--accel", o->accel,
+           "Layouts to check, comma-separated: exhaustive, linear, hash, or all (exhaustive "
+           "costs pixels x primitives: minutes on the bunny)")
+        ->capture_default_str();
+    cmd->add_option("--backend", o->backend, "Backends to check, comma-separated: cpu, cuda")
+        ->capture_default_str();
+    cmd->add_option("--threads", o->threads,
+                    "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
+        ->check(CLI::Range(1, 4096));
+    cmd->add_option("--size", o->size, "Image size WxH of the per-pixel check")
+        ->capture_default_str();
+    cmd->add_option("--rays", o->rays, "Seeded rays (around, inside, axis-parallel); 0 for none")
+        ->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the ray sets")->capture_default_str();
+    cmd->add_option("--json", o->json, "Write the report as JSON to this file ('-': stdout)");
+    cmd->add_option("--diff-image", o->diffImage,
+                    "Write a PNG heat map of |dt| with wrong pixels marked (one per run: "
+                    "NAME-LAYOUT-BACKEND.png when there are several)");
+    cmd->add_option("--max-ambiguous-rate", o->policy.maxAmbiguousRate,
+                    "Fail when ambiguous / compared exceeds this (primary, shadow, rays)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--t-tolerance", o->policy.tTolerance,
+                    "Same hit when |dt| <= this x scene extent (bounding-box diagonal)")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--edge-tolerance", o->policy.edgeTolerance,
+                    "Edge, vertex, tangent or range-end configuration within this x extent")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--grazing-cos", o->policy.grazingCos,
+                    "Grazing ray when |cos(ray, normal)| <= this")
+        ->capture_default_str()
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_flag("--no-replication", o->noReplication, "Skip the replication check");
+    cmd->add_flag("--table1", o->table1,
+                  "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
+                  "--meshes and its cache/ instead of validating a scene");
+    cmd->add_option("--meshes", o->meshes, "Mesh folder for --table1")->capture_default_str();
+    cmd->callback([o] { runValidate(*o); });
+}
+
+}  // namespace oct

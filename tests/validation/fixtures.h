@@ -1,0 +1,59 @@
+// Shared helpers of the validation tests: scenes, CPU tracers for every layout, and the
+// deliberate corruptions of the fault-injection tests.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/octree/accel.h"
+#include "core/scene/grid_cloud.h"
+#include "core/scene/load_scene.h"
+#include "cpu_ref/render_cpu.h"
+#include "validation/validate.h"
+
+namespace octtest {
+
+inline std::string meshPath(const std::string& name) {
+    return std::string(OCT_SOURCE_DIR) + "/meshes/" + name;
+}
+
+// The committed meshes (meshes/README.md).
+inline std::vector<std::string> committedMeshes() {
+    return {"cornell_box.obj", "teapot.obj", "spider.obj",      "wuson.obj",           "wuson.off",
+            "wuson.ply",       "wuson.stl",  "cube_binary.ply", "sphere_with_hole.stl"};
+}
+
+// Built layouts kept alive for the tracers' callables.
+struct CpuTracers {
+    std::vector<std::unique_ptr<oct::BuiltScene>> built;
+    std::vector<oct::TracerUnderTest> tracers;
+    const oct::Octree* canonical = nullptr;
+};
+
+inline CpuTracers cpuTracers(const oct::Scene& scene,
+                             const std::vector<oct::Layout>& layouts = {
+                                 oct::Layout::Exhaustive, oct::Layout::Linear, oct::Layout::Hash}) {
+    CpuTracers t;
+    for (oct::Layout l : layouts) {
+        t.built.push_back(
+            std::make_unique<oct::BuiltScene>(oct::buildScene(scene, l, oct::LayoutOptions{})));
+        const oct::BuiltScene* bs = t.built.back().get();
+        if (l != oct::Layout::Exhaustive) t.canonical = &bs->tree;
+        t.tracers.push_back(
+            {oct::layoutName(l), "cpu",
+             [bs](const oct::FrameParams& p, oct::Film& f) { oct::renderCpu(p, *bs, f); },
+             [bs](oct::RayBatchView b) { oct::traceCpu(*bs, b); }});
+    }
+    return t;
+}
+
+inline oct::ValidateOptions smallOptions(int side = 64, uint64_t rays = 3000) {
+    oct::ValidateOptions o;
+    o.camera.width = o.camera.height = side;
+    o.rays = rays;
+    o.seed = 7;
+    return o;
+}
+
+}  // namespace octtest

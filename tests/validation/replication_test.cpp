@@ -1,0 +1,149 @@
+// The replication check (validation/replication.h): the builder's leaf lists against CGAL's
+// exact overlap test. No false negatives on real meshes and a generated cloud; a primitive
+// removed from one leaf on purpose is found and named; an extra one is a counted false positive.
+#include "validation/replication.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "tests/validation/fixtures.h"
+#include "validation/exact_overlap.h"
+#include "validation/report.h"
+
+namespace oct {
+namespace {
+
+using octtest::meshPath;
+
+TEST(Replication, NoFalseNegativesOnCommittedMeshes) {
+    for (const std::string& name : octtest::committedMeshes()) {
+        Scene scene = loadScene(meshPath(name));
+        Octree tree = buildOctree(scene, BuildParams{});
+        ReplicationReport r = checkReplication(scene, tree);
+        SCOPED_TRACE(name);
+        EXPECT_EQ(r.falseNegatives, 0u) << humanSummary(r);
+        EXPECT_TRUE(r.passes());
+        EXPECT_EQ(r.octreeFaces, tree.referenceCount());
+        EXPECT_EQ(r.primitives, scene.primitiveCount());
+        EXPECT_EQ(r.indexOutOfRange + r.duplicateEntries, 0u);
+        EXPECT_GE(r.exactOverlaps + r.falsePositives, r.octreeFaces);
+        // The builder pads its test by a relative 1e-9: anything it adds is that close.
+        EXPECT_LE(r.maxFalsePositiveGap, 1e-6);
+        uint64_t prims = 0, refs = 0;
+        for (const auto& [count, n] : r.distribution) {
+            prims += n;
+            refs += uint64_t(count) * n;
+        }
+        EXPECT_EQ(prims, r.primitives);
+        EXPECT_EQ(refs, r.octreeFaces);
+    }
+}
+
+TEST(Replication, GridCloudHasOneLeafPerSphere) {
+    Scene scene = makeGridCloud(4000, 3);
+    Octree tree = buildOctree(scene, BuildParams{});
+    ReplicationReport r = checkReplication(scene, tree);
+    EXPECT_TRUE(r.passes());
+    EXPECT_EQ(r.falseNegatives + r.falsePositives, 0u);
+    ASSERT_EQ(r.distribution.size(), 1u);
+    EXPECT_EQ(r.distribution.begin()->first, 1u);
+    EXPECT_EQ(r.octreeFaces, 4000u);
+}
+
+// A leaf and one of its triangles that overlaps the leaf robustly (the box shrunk by 1% still
+// overlaps), so removing it is a certain false negative.
+bool pickRobustEntry(const Scene& scene, const Octree& tree, uint32_t& leaf, uint32_t& slot) {
+    for (uint32_t k = 0; k < tree.nodes.size(); ++k) {
+        const OctreeNode& n = tree.nodes[k];
+        if (n.nodeType() != NodeType::Leaf || n.primCount < 2) continue;
+        Aabb shrunk = n.box;
+        Vec3 d = n.box.extent() * 0.01f;
+        shrunk.lo = shrunk.lo + d;
+        shrunk.hi = shrunk.hi - d;
+        for (uint32_t j = 0; j < n.primCount; ++j)
+            if (exactTriangleBoxOverlap(scene.triangles[tree.primIndices[n.primOffset + j]],
+                                        shrunk)) {
+                leaf = k;
+                slot = j;
+                return true;
+            }
+    }
+    return false;
+}
+
+TEST(Replication, RemovedEntryIsOneNamedFalseNegative) {
+    Scene scene = loadScene(meshPath("wuson.obj"));
+    Octree tree = buildOctree(scene, BuildParams{});
+    uint32_t leaf = 0, slot = 0;
+    ASSERT_TRUE(pickRobustEntry(scene, tree, leaf, slot));
+    OctreeNode& n = tree.nodes[leaf];
+    const uint32_t prim = tree.primIndices[n.primOffset + slot];
+    // Remove it from the leaf's list: swap it to the list's end and shorten the list. The index
+    // array keeps its size, so no other leaf moves.
+    std::swap(tree.primIndices[n.primOffset + slot],
+              tree.primIndices[n.primOffset + n.primCount - 1]);
+    --n.primCount;
+    ReplicationReport r = checkReplication(scene, tree);
+    EXPECT_FALSE(r.passes());
+    EXPECT_EQ(r.falseNegatives, 1u);
+    ASSERT_EQ(r.falseNegativeList.size(), 1u);
+    EXPECT_EQ(r.falseNegativeList[0].prim, prim);
+    EXPECT_EQ(r.falseNegativeList[0].leafKey, n.key);
+    EXPECT_EQ(r.falseNegativeList[0].node, leaf);
+    nlohmann::json j = toJson(r);
+    EXPECT_EQ(j["false_negatives"], 1);
+    EXPECT_EQ(j["false_negative_list"][0]["prim"], prim);
+    EXPECT_EQ(j["false_negative_list"][0]["leaf_key"], n.key);
+    std::string text = humanSummary(r);
+    EXPECT_NE(text.find("primitive " + std::to_string(prim)), std::string::npos) << text;
+    EXPECT_NE(text.find("leaf key " + std::to_string(n.key)), std::string::npos) << text;
+}
+
+TEST(Replication, ExtraEntryIsACountedFalsePositiveWithItsGap) {
+    Scene scene = loadScene(meshPath("cube_binary.ply"));  // unit cube, 12 triangles
+    Octree tree = buildOctree(scene, BuildParams{1, 1});   // the root and 8 leaves
+    ASSERT_EQ(tree.nodes.size(), 9u);
+    // A leaf that does not list triangle t, and t's gap to it: list t there as well.
+    uint32_t target = 0, prim = 0;
+    double gap = 0.0;
+    for (uint32_t k = 1; k < 9 && gap == 0.0; ++k)
+        for (uint32_t t = 0; t < 12; ++t) {
+            const OctreeNode& n = tree.nodes[k];
+            auto b = tree.primIndices.begin() + n.primOffset;
+            if (std::find(b, b + n.primCount, t) != b + n.primCount) continue;
+            double g = triangleBoxGap(scene.triangles[t], n.box);
+            if (g > 0.0) {
+                target = k, prim = t, gap = g;
+                break;
+            }
+        }
+    ASSERT_GT(gap, 0.0);
+    // Append to the index array and point the leaf at a fresh copy of its list plus t.
+    OctreeNode& n = tree.nodes[target];
+    std::vector<uint32_t> list(tree.primIndices.begin() + n.primOffset,
+                               tree.primIndices.begin() + n.primOffset + n.primCount);
+    list.push_back(prim);
+    n.primOffset = uint32_t(tree.primIndices.size());
+    n.primCount = uint32_t(list.size());
+    tree.primIndices.insert(tree.primIndices.end(), list.begin(), list.end());
+    ReplicationReport r = checkReplication(scene, tree);
+    EXPECT_TRUE(r.passes());  // false positives cost time, not hits
+    EXPECT_EQ(r.falseNegatives, 0u);
+    EXPECT_EQ(r.falsePositives, 1u);
+    ASSERT_EQ(r.falsePositiveList.size(), 1u);
+    EXPECT_EQ(r.falsePositiveList[0].prim, prim);
+    EXPECT_EQ(r.falsePositiveList[0].node, target);
+    Vec3 e = n.box.extent();
+    EXPECT_NEAR(r.falsePositiveList[0].gap, gap / double(std::max({e.x, e.y, e.z})), 1e-12);
+}
+
+TEST(Replication, RejectsATreeOfAnotherScene) {
+    Scene a = loadScene(meshPath("cube_binary.ply"));
+    Scene b = loadScene(meshPath("teapot.obj"));
+    Octree tree = buildOctree(a, BuildParams{});
+    EXPECT_THROW(checkReplication(b, tree), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace oct

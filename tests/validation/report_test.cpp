@@ -1,0 +1,44 @@
+// Report fields (validation/report.h) and Table 1 (validation/table1.h).
+#include "validation/report.h"
+
+#include <gtest/gtest.h>
+
+#include "tests/validation/fixtures.h"
+#include "validation/table1.h"
+
+namespace oct {
+namespace {
+
+TEST(Report, JsonHasThePlainFields) {
+    Scene scene = loadScene(octtest::meshPath("cube_binary.ply"));
+    auto t = octtest::cpuTracers(scene, {Layout::Linear});
+    ValidationReport rep =
+        validateScene(scene, t.tracers, t.canonical, octtest::smallOptions(16, 300));
+    nlohmann::json j = toJson(rep);
+    EXPECT_EQ(j["wrong"], 0);
+    EXPECT_EQ(j["ambiguous"], 0);
+    EXPECT_TRUE(j["pass"].get<bool>());
+    EXPECT_EQ(j["replication"]["false_negatives"], 0);
+    EXPECT_EQ(j["replication"]["octree_faces"], rep.replication->octreeFaces);
+    EXPECT_EQ(j["runs"][0]["layout"], "linear");
+    EXPECT_EQ(j["runs"][0]["primary"]["compared"], 256);
+    EXPECT_EQ(j["runs"][0]["rays"]["compared"], 300);
+    EXPECT_TRUE(j["runs"][0]["rays"]["by_kind"].contains("axis"));
+    EXPECT_EQ(j["policy"]["max_ambiguous_rate"], rep.policy.maxAmbiguousRate);
+    EXPECT_NE(humanSummary(rep).find("PASS"), std::string::npos);
+}
+
+TEST(Table1, CountsOfTheUnitCube) {
+    Table1Row r = table1Row(octtest::meshPath("cube_binary.ply"), BuildParams{});
+    EXPECT_EQ(r.name, "cube_binary.ply");
+    EXPECT_EQ(r.vertices, 8u);
+    EXPECT_EQ(r.faces, 12u);
+    EXPECT_EQ(r.octreeFaces, 48u);  // each face triangle in the 4 leaves of its side
+    std::vector<std::string> meshes = table1Meshes(std::string(OCT_SOURCE_DIR) + "/meshes");
+    EXPECT_GE(meshes.size(), octtest::committedMeshes().size());
+    EXPECT_NE(humanTable1({r}).find("cube_binary.ply"), std::string::npos);
+    EXPECT_THROW(table1Meshes(std::string(OCT_SOURCE_DIR) + "/no-such-dir"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace oct

@@ -1,0 +1,140 @@
+#include "validation/hit_check.h"
+
+#include <cmath>
+
+namespace oct {
+
+const char* hitClassName(HitClass c) {
+    switch (c) {
+        case HitClass::Tie:
+            return "tie";
+        case HitClass::Ambiguous:
+            return "ambiguous";
+        case HitClass::Wrong:
+            return "wrong";
+        case HitClass::Agree:
+        default:
+            return "agree";
+    }
+}
+
+double sceneExtent(const Scene& scene) {
+    Aabb b = scene.bounds();
+    Vec3 e = b.extent();
+    double d = std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z);
+    return d > 0.0 && std::isfinite(d) ? d : 1.0;
+}
+
+HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
+    : scene_(&scene),
+      policy_(policy),
+      extent_(sceneExtent(scene)),
+      truth_(scene, {policy.edgeTolerance * sceneExtent(scene), policy.grazingCos}) {}
+
+double HitClassifier::relativeDt(Hit a, Hit b, float dirLength) const {
+    bool ha = a.prim >= 0, hb = b.prim >= 0;
+    if (!ha && !hb) return 0.0;
+    if (ha != hb) return INFINITY;
+    return std::fabs(double(a.t) - double(b.t)) * double(dirLength) / extent_;
+}
+
+HitClass HitClassifier::compare(Hit ours, Hit reference, float dirLength) const {
+    bool ho = ours.prim >= 0, hr = reference.prim >= 0;
+    if (!ho && !hr) return HitClass::Agree;
+    if (ho != hr) return HitClass::Wrong;
+    if (relativeDt(ours, reference, dirLength) > policy_.tTolerance) return HitClass::Wrong;
+    return ours.prim == reference.prim ? HitClass::Agree : HitClass::Tie;
+}
+
+Verdict HitClassifier::closest(const Ray& ray, Hit ours, Hit reference) const {
+    Verdict v;
+    v.cls = compare(ours, reference, length(ray.dir));
+    if (v.cls != HitClass::Wrong) return v;
+    return recheckClosest(ray, ours);
+}
+
+Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
+    Verdict v;
+    v.rechecked = true;
+    const DoubleRay dr = toDoubleRay(ray);
+    const double dirLength =
+        std::sqrt(dr.dir.x * dr.dir.x + dr.dir.y * dr.dir.y + dr.dir.z * dr.dir.z);
+    const double tolAbs = policy_.tTolerance * extent_;  // world units
+    const double tTol = tolAbs / dirLength;              // in units of t
+    auto hits = truth_.allHits(dr);
+    if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
+    const bool oursHit = ours.prim >= 0;
+    const double tOurs = oursHit ? double(ours.t) : INFINITY;
+    const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
+
+    bool clean = false;  // an error nothing excuses
+    uint32_t reasons = 0;
+    // 1. Our own answer: a hit on q at tOurs, confirmed when the double test hits q within the
+    // tolerance of tOurs, or when our hit point lies within the tolerance of q itself (a
+    // grazing ray: the same small distance off the surface is a long way along the ray).
+    if (oursHit) {
+        double tq;
+        bool confirmed = truth_.hit(q, dr, tq) && std::fabs(tq - tOurs) <= tTol;
+        if (!confirmed) {
+            uint32_t r = truth_.touchiness(q, dr);
+            DVec3 p = {dr.org.x + dr.dir.x * tOurs, dr.org.y + dr.dir.y * tOurs,
+                       dr.org.z + dr.dir.z * tOurs};
+            if (r == 0 && truth_.distanceTo(q, p) <= tolAbs) r = kGrazing;
+            if (r == 0) clean = true;
+            reasons |= r;
+        }
+    }
+    // 2. Every primitive the truth hits clearly before our answer: ours missed it, which only
+    // a touchy configuration excuses.
+    for (const auto& h : hits) {
+        if (!(h.first < tOurs - tTol)) break;
+        if (oursHit && h.second == q) continue;  // our own primitive, judged above
+        uint32_t r = truth_.touchiness(h.second, dr);
+        if (r == 0) clean = true;
+        reasons |= r;
+    }
+    if (clean) {
+        v.cls = HitClass::Wrong;
+        return v;
+    }
+    bool agreesWithTruth = (!oursHit && hits.empty()) ||
+                           (oursHit && !hits.empty() && std::fabs(hits[0].first - tOurs) <= tTol);
+    if (agreesWithTruth) {
+        // Ours is right; say too what made the reference stumble, when something did.
+        reasons |= kReferenceOff;
+        if (oursHit) reasons |= truth_.touchiness(q, dr);
+    }
+    v.cls = reasons ? HitClass::Ambiguous : HitClass::Wrong;
+    v.reasons = reasons;
+    return v;
+}
+
+Verdict HitClassifier::recheckOcclusion(const Ray& ray, bool oursOccluded) const {
+    Verdict v;
+    v.rechecked = true;
+    DoubleRay dr = toDoubleRay(ray);
+    auto hits = truth_.allHits(dr);
+    v.truthOccluded = !hits.empty();
+    if (hits.size() > 0) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
+    if (oursOccluded == v.truthOccluded) {
+        v.cls = HitClass::Ambiguous;
+        v.reasons = kReferenceOff;
+        return v;
+    }
+    uint32_t reasons = 0;
+    bool clean = false;
+    if (v.truthOccluded) {  // ours saw through every occluder: each must be touchy
+        for (const auto& h : hits) {
+            uint32_t r = truth_.touchiness(h.second, dr);
+            if (r == 0) clean = true;
+            reasons |= r;
+        }
+    } else {  // ours found an occluder the truth does not: something near must be touchy
+        reasons = truth_.touchinessNear(dr);
+    }
+    v.cls = clean || reasons == 0 ? HitClass::Wrong : HitClass::Ambiguous;
+    v.reasons = v.cls == HitClass::Ambiguous ? reasons : 0;
+    return v;
+}
+
+}  // namespace oct

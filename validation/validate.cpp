@@ -1,0 +1,94 @@
+#include "validation/validate.h"
+
+#include <chrono>
+
+#include "core/octree/layouts.h"
+#include "cpu_ref/embree_tracer.h"
+#include "cpu_ref/render_cpu.h"
+
+namespace oct {
+namespace {
+
+double since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+uint64_t ValidationReport::wrong() const {
+    uint64_t w = 0;
+    for (const RunReport& r : runs) w += r.wrong();
+    return w;
+}
+
+uint64_t ValidationReport::ambiguous() const {
+    uint64_t a = 0;
+    for (const RunReport& r : runs) a += r.ambiguous();
+    return a;
+}
+
+bool ValidationReport::passes() const {
+    for (const RunReport& r : runs)
+        if (!r.passes(policy.maxAmbiguousRate)) return false;
+    return !replication || replication->passes();
+}
+
+ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,
+                               const Octree* canonical, const ValidateOptions& o) {
+    auto start = std::chrono::steady_clock::now();
+    ValidationReport rep;
+    rep.scene = scene.name;
+    rep.kind = scene.kind;
+    rep.primitives = scene.primitiveCount();
+    rep.policy = o.policy;
+    rep.seed = o.seed;
+
+    HitClassifier classifier(scene, o.policy);
+    rep.extent = classifier.extent();
+    FrameParams frame = makeFrame(scene.bounds(), o.camera);
+    rep.width = frame.width;
+    rep.height = frame.height;
+    ValidationRays rays = makeValidationRays(scene, o.rays, o.seed);
+    rep.rayCount = rays.count();
+    for (RayKind k : rays.kind) ++rep.raysByKind[int(k)];
+
+    // The reference: Embree (robust mode) through the same per-pixel kernel.
+    auto refStart = std::chrono::steady_clock::now();
+    EmbreeTracer embree(scene);
+    const PrimitivesView prims = primitivesView(scene);
+    Film refFilm(frame.width, frame.height);
+    renderFrameCpu(frame, embree.accel(), prims, refFilm.view());
+    std::vector<float> tRef(rays.count());
+    std::vector<int32_t> pRef(rays.count());
+    traceRaysCpu(embree.accel(), {rays.rays.data(), tRef.data(), pRef.data(), rays.count()});
+    rep.referenceSeconds = since(refStart);
+    OcclusionQuery occluded = [&embree](const Ray& r) {
+        TraceCost cost = {0, 0};
+        return anyHit(embree.accel(), r, cost);
+    };
+
+    for (const TracerUnderTest& t : tracers) {
+        RunReport run;
+        run.layout = t.layout;
+        run.backend = t.backend;
+        auto t0 = std::chrono::steady_clock::now();
+        Film film;
+        t.render(frame, film);
+        run.renderSeconds = since(t0);
+        std::vector<float> tOurs(rays.count());
+        std::vector<int32_t> pOurs(rays.count());
+        t0 = std::chrono::steady_clock::now();
+        if (rays.count() > 0) t.trace({rays.rays.data(), tOurs.data(), pOurs.data(), rays.count()});
+        run.traceSeconds = since(t0);
+        t0 = std::chrono::steady_clock::now();
+        run.film = validateFilm(classifier, frame, film, refFilm, occluded);
+        run.rays = validateRays(classifier, rays, tOurs, pOurs, tRef, pRef);
+        run.checkSeconds = since(t0);
+        rep.runs.push_back(std::move(run));
+    }
+    if (o.replication && canonical) rep.replication = checkReplication(scene, *canonical);
+    rep.seconds = since(start);
+    return rep;
+}
+
+}  // namespace oct

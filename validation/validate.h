@@ -1,0 +1,81 @@
+// `octrace validate` as a library call: each tracer under test (a layout on a backend, given as
+// two callables that fill a Film and a ray batch) against Embree, per pixel (primary and
+// shadow rays) and per ray of the seeded ray sets, plus the replication check of the canonical
+// octree. The callables keep validation away from the layouts' insides; the CLI builds them
+// with apps/backend.h, the tests with the OpenMP launcher or a deliberately corrupted layout.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/octree/octree.h"
+#include "core/render/frame.h"
+#include "core/render/kernel.h"
+#include "validation/hit_validation.h"
+#include "validation/replication.h"
+
+namespace oct {
+
+struct TracerUnderTest {
+    std::string layout;  // names for the report
+    std::string backend;
+    std::function<void(const FrameParams&, Film&)> render;  // fills (and sizes) the Film
+    std::function<void(RayBatchView)> trace;                // closest hits of a ray batch
+};
+
+struct ValidateOptions {
+    ValidationPolicy policy;
+    CameraOptions camera = defaultValidateCamera();
+    uint64_t rays = 30000;  // seeded rays (ray_sets.h); 0 for none
+    uint64_t seed = 1;
+    bool replication = true;  // needs the canonical octree
+
+    static CameraOptions defaultValidateCamera() {
+        CameraOptions c;
+        c.width = c.height = 256;
+        return c;
+    }
+};
+
+struct RunReport {
+    std::string layout, backend;
+    FilmValidation film;
+    RayValidation rays;
+    double renderSeconds = 0.0, traceSeconds = 0.0, checkSeconds = 0.0;
+
+    bool passes(double maxAmbiguousRate) const {
+        return film.passes(maxAmbiguousRate) && rays.passes(maxAmbiguousRate);
+    }
+    uint64_t wrong() const { return film.primary.wrong + film.shadow.wrong + rays.all.wrong; }
+    uint64_t ambiguous() const {
+        return film.primary.ambiguous + film.shadow.ambiguous + rays.all.ambiguous;
+    }
+};
+
+struct ValidationReport {
+    std::string scene;
+    PrimKind kind = PrimKind::Triangles;
+    uint32_t primitives = 0;
+    double extent = 0.0;
+    ValidationPolicy policy;
+    int width = 0, height = 0;
+    uint64_t rayCount = 0, seed = 0;
+    std::array<uint64_t, kRayKindCount> raysByKind{};
+    double referenceSeconds = 0.0;  // Embree: build, frame and rays
+    std::vector<RunReport> runs;
+    std::optional<ReplicationReport> replication;
+    double seconds = 0.0;
+
+    uint64_t wrong() const;
+    uint64_t ambiguous() const;
+    bool passes() const;
+};
+
+// Validates every tracer against Embree on `scene`. `canonical` (may be null) is the octree the
+// layouts were converted from, for the replication check. Throws on unusable options.
+ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,
+                               const Octree* canonical, const ValidateOptions& options);
+
+}  // namespace oct
