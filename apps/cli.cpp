@@ -74,6 +74,7 @@ int runCli(int argc, char** argv) {
     registerRender(app);
     registerTrace(app);
     registerValidate(app);
+    registerBench(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -45,5 +45,6 @@ void registerInfo(CLI::App& app);
 void registerRender(CLI::App& app);
 void registerTrace(CLI::App& app);
 void registerValidate(CLI::App& app);
+void registerBench(CLI::App& app);
 
 }  // namespace oct
