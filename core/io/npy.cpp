@@ -82,20 +82,22 @@ std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint6
     uint64_t count = 1;
     for (uint64_t d : shape) count *= d;
     std::string header = headerFor(descr, shape);
-    std::vector<uint8_t> bytes;
-    bytes.reserve(10 + header.size() + count * elementSize);
-    const char magic[] = "\x93NUMPY\x01\x00";
-    bytes.insert(bytes.end(), magic, magic + 8);
-    bytes.push_back(uint8_t(header.size() & 0xff));
-    bytes.push_back(uint8_t(header.size() >> 8));
-    bytes.insert(bytes.end(), header.begin(), header.end());
-    const auto* p = static_cast<const uint8_t*>(data);
-    bytes.insert(bytes.end(), p, p + count * elementSize);
+    // Version 1.0 layout: magic "\x93NUMPY", major 1, minor 0, header length (uint16 LE),
+    // the header (padded so data starts at a multiple of 64), then the raw little-endian data.
+    // Sized once and filled with memcpy (gcc 12 misreads a chain of vector::insert calls here
+    // as an overflow).
+    const size_t dataBytes = count * elementSize;
+    std::vector<uint8_t> bytes(10 + header.size() + dataBytes);
+    std::memcpy(bytes.data(), "\x93NUMPY\x01\x00", 8);
+    bytes[8] = uint8_t(header.size() & 0xff);
+    bytes[9] = uint8_t(header.size() >> 8);
+    std::memcpy(bytes.data() + 10, header.data(), header.size());
+    if (dataBytes) std::memcpy(bytes.data() + 10 + header.size(), data, dataBytes);
     return bytes;
 }
 
-void writeNpy(const std::string& path, const std::string& descr,
-              const std::vector<uint64_t>& shape, const void* data, size_t elementSize) {
+void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
+              const void* data, size_t elementSize) {
     writeFileAtomic(path, encodeNpy(descr, shape, data, elementSize));
 }
 
@@ -110,7 +112,8 @@ NpyArray readNpy(const std::string& path) {
     in.read(pre, 10);
     if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
     int major = static_cast<uint8_t>(pre[6]);
-    uint64_t headerLen = static_cast<uint8_t>(pre[8]) | (uint64_t(static_cast<uint8_t>(pre[9])) << 8);
+    uint64_t headerLen =
+        static_cast<uint8_t>(pre[8]) | (uint64_t(static_cast<uint8_t>(pre[9])) << 8);
     uint64_t dataStart = 10;
     if (major == 2 || major == 3) {
         char more[2];
@@ -121,7 +124,8 @@ NpyArray readNpy(const std::string& path) {
     } else if (major != 1) {
         bad(path, "unsupported format version " + std::to_string(major));
     }
-    if (headerLen > uint64_t(fileSize) - dataStart) bad(path, "header runs past the end of the file");
+    if (headerLen > uint64_t(fileSize) - dataStart)
+        bad(path, "header runs past the end of the file");
     std::string header(headerLen, '\0');
     in.read(&header[0], std::streamsize(headerLen));
     dataStart += headerLen;
