@@ -44,8 +44,7 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("--hash-slots", o.hashSlots, "Slots per hash bucket (B)")
         ->capture_default_str()
         ->check(CLI::Range(1u, 64u));
-    cmd.add_option("--linear-budget", o.linearBudgetMiB,
-                   "Largest linear octree to allocate, MiB")
+    cmd.add_option("--linear-budget", o.linearBudgetMiB, "Largest linear octree to allocate, MiB")
         ->capture_default_str()
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
     cmd.add_option("--hash-budget", o.hashBudgetMiB,
@@ -67,8 +66,9 @@ Vec3 parseVec3(const std::string& option, const std::string& text) {
 void setCpuThreadsFromOption(int threads) { setCpuThreads(threads); }
 
 int runCli(int argc, char** argv) {
-    CLI::App app{"octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
-                 "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
+    CLI::App app{
+        "octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
+        "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
     app.require_subcommand(1);
     registerInfo(app);
     registerRender(app);

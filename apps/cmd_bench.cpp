@@ -746,7 +746,8 @@ private:
                     if (layout == Layout::Linear)
                         built.linear = buildLinear(*tree, o_.linearBudgetMiB << 20);
                     else
-                        built.hash = buildHash(*tree, HashParams{o_.hashSlots, o_.hashBudgetMiB << 20});
+                        built.hash =
+                            buildHash(*tree, HashParams{o_.hashSlots, o_.hashBudgetMiB << 20});
                     base.convertSeconds =
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
                             .count();

@@ -1,9 +1,8 @@
 // octrace info: what loading kept and dropped, the octree's shape, and each layout's bytes.
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
 #include "core/octree/layouts.h"
@@ -45,8 +44,9 @@ nlohmann::json treeJson(const Octree& t) {
             {"effective_max_depth", t.effectiveMaxDepth},
             {"max_prims", t.params.maxPrims},
             {"depth", t.depth},
-            {"root", {{"lo", {t.root.lo.x, t.root.lo.y, t.root.lo.z}},
-                      {"hi", {t.root.hi.x, t.root.hi.y, t.root.hi.z}}}},
+            {"root",
+             {{"lo", {t.root.lo.x, t.root.lo.y, t.root.lo.z}},
+              {"hi", {t.root.hi.x, t.root.hi.y, t.root.hi.z}}}},
             {"nodes", t.nodes.size()},
             {"nodes_by_type", byType},
             {"nodes_by_depth", depth},
@@ -84,12 +84,12 @@ void printHuman(const nlohmann::json& j) {
                 l["format"].get<std::string>().c_str(), (unsigned long long)l["vertices_read"],
                 (unsigned long long)l["faces_read"]);
     const auto& d = l["dropped"];
-    std::printf("dropped      %llu (invalid index %llu, non-finite %llu, degenerate %llu, "
-                "<3 vertices %llu); polygons triangulated %llu\n",
-                (unsigned long long)d["total"], (unsigned long long)d["invalid_index"],
-                (unsigned long long)d["non_finite"], (unsigned long long)d["degenerate"],
-                (unsigned long long)d["too_few_vertices"],
-                (unsigned long long)l["polygons_triangulated"]);
+    std::printf(
+        "dropped      %llu (invalid index %llu, non-finite %llu, degenerate %llu, "
+        "<3 vertices %llu); polygons triangulated %llu\n",
+        (unsigned long long)d["total"], (unsigned long long)d["invalid_index"],
+        (unsigned long long)d["non_finite"], (unsigned long long)d["degenerate"],
+        (unsigned long long)d["too_few_vertices"], (unsigned long long)l["polygons_triangulated"]);
     std::printf("octree       depth %d (max %d, max-prims %u), %llu nodes, built in %.3f s\n",
                 t["depth"].get<int>(), t["effective_max_depth"].get<int>(),
                 t["max_prims"].get<unsigned>(), (unsigned long long)t["nodes"],
@@ -105,18 +105,19 @@ void printHuman(const nlohmann::json& j) {
                     (unsigned long long)lvl.value("leaf", 0ull),
                     (unsigned long long)lvl.value("empty_leaf", 0ull));
     }
-    std::printf("octree faces %llu (primitive references in leaves; %.2f per primitive)\n",
-                (unsigned long long)t["octree_faces"],
-                double(t["octree_faces"].get<uint64_t>()) / double(s["primitives"].get<uint64_t>()));
+    std::printf(
+        "octree faces %llu (primitive references in leaves; %.2f per primitive)\n",
+        (unsigned long long)t["octree_faces"],
+        double(t["octree_faces"].get<uint64_t>()) / double(s["primitives"].get<uint64_t>()));
     std::printf("linear       %llu nodes, %.2f MiB (incl. leaf index array)\n",
                 (unsigned long long)lay["linear"]["nodes"],
                 lay["linear"]["bytes"].get<double>() / 1048576.0);
     const auto& h = lay["hash"];
-    std::printf("hash         m %llu, B %u, max occupancy %u, mean %.2f, %.2f MiB, built in %.3f s\n",
-                (unsigned long long)h["buckets_m"], h["slots_per_bucket_B"].get<unsigned>(),
-                h["max_bucket_occupancy"].get<unsigned>(),
-                h["mean_bucket_occupancy"].get<double>(), h["bytes"].get<double>() / 1048576.0,
-                h["build_seconds"].get<double>());
+    std::printf(
+        "hash         m %llu, B %u, max occupancy %u, mean %.2f, %.2f MiB, built in %.3f s\n",
+        (unsigned long long)h["buckets_m"], h["slots_per_bucket_B"].get<unsigned>(),
+        h["max_bucket_occupancy"].get<unsigned>(), h["mean_bucket_occupancy"].get<double>(),
+        h["bytes"].get<double>() / 1048576.0, h["build_seconds"].get<double>());
     std::printf("exhaustive   %.2f MiB of primitives, no tree\n",
                 j["scene"]["primitive_bytes"].get<double>() / 1048576.0);
 }

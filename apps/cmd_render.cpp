@@ -28,8 +28,8 @@ struct RenderOptions {
 void parseSize(const std::string& text, int& w, int& h) {
     unsigned long long a = 0, b = 0;
     char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' ||
-        a < 1 || b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
+    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
+        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
         text.find('-') != std::string::npos)
         throw FrameError("--size '" + text + "' must be WxH with 1 <= W, H <= " +
                          std::to_string(kMaxImageSide) + " (e.g. 512x512)");
@@ -88,14 +88,15 @@ void printEmbreeAgreement(const FrameParams& frame, const BuiltScene& bs, const 
     renderWith(Backend::Embree, frame, bs, truth);
     double extent = length(bs.scene->bounds().extent());
     FilmComparison c = compareFilms(film, truth, extent);
-    std::printf("embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "
-                "%llu hit/miss and %llu distance mismatches; %llu shadow mismatches; "
-                "max |dt| %.2e of the scene extent\n",
-                (unsigned long long)c.agreeing(), (unsigned long long)c.pixels,
-                (unsigned long long)c.bothMiss, (unsigned long long)c.bothHitAgree,
-                (unsigned long long)c.ties, (unsigned long long)c.hitMissMismatch,
-                (unsigned long long)c.distanceMismatch, (unsigned long long)c.shadowMismatch,
-                c.maxRelativeDt);
+    std::printf(
+        "embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "
+        "%llu hit/miss and %llu distance mismatches; %llu shadow mismatches; "
+        "max |dt| %.2e of the scene extent\n",
+        (unsigned long long)c.agreeing(), (unsigned long long)c.pixels,
+        (unsigned long long)c.bothMiss, (unsigned long long)c.bothHitAgree,
+        (unsigned long long)c.ties, (unsigned long long)c.hitMissMismatch,
+        (unsigned long long)c.distanceMismatch, (unsigned long long)c.shadowMismatch,
+        c.maxRelativeDt);
 }
 
 void runRender(const RenderOptions& o) {
@@ -119,9 +120,8 @@ void runRender(const RenderOptions& o) {
     writeOutputs(o, film);
 
     const char* accelName = backend == Backend::Embree ? "embree-bvh" : layoutName(layout);
-    std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(),
-                scene.primitiveCount(), accelName, backendName(backend), frame.width,
-                frame.height);
+    std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(), scene.primitiveCount(),
+                accelName, backendName(backend), frame.width, frame.height);
     if (!note.empty()) std::printf("%s\n", note.c_str());
     std::printf("build   %.3f s\n", t.buildSeconds);
     std::printf("frame   %.3f s\n", t.frameSeconds);
@@ -135,9 +135,10 @@ void runRender(const RenderOptions& o) {
             nodes += film.nodes[i];
             tested += film.primsTested[i];
         }
-        std::printf("cost    %.1f nodes visited, %.1f primitives tested per pixel (primary + "
-                    "shadow)\n",
-                    nodes / double(film.pixelCount()), tested / double(film.pixelCount()));
+        std::printf(
+            "cost    %.1f nodes visited, %.1f primitives tested per pixel (primary + "
+            "shadow)\n",
+            nodes / double(film.pixelCount()), tested / double(film.pixelCount()));
     }
     std::printf("wrote   %s\n", o.out.c_str());
     if (o.compareEmbree) printEmbreeAgreement(frame, bs, film);

@@ -26,8 +26,10 @@ struct TraceOptions {
 std::vector<float> loadRays(const std::string& path) {
     NpyArray a = readNpy(path);
     if (a.descr != "<f4" || a.shape.size() != 2 || a.shape[1] != 8)
-        throw IoError("'" + path + "' must be a float32 array of shape (N, 8): ox oy oz dx dy "
-                      "dz tmin tmax (got dtype " + a.descr + ")");
+        throw IoError("'" + path +
+                      "' must be a float32 array of shape (N, 8): ox oy oz dx dy "
+                      "dz tmin tmax (got dtype " +
+                      a.descr + ")");
     std::vector<float> rays(a.elementCount());
     std::memcpy(rays.data(), a.data.data(), a.data.size());
     for (uint64_t i = 0; i < a.shape[0]; ++i) {
@@ -80,8 +82,7 @@ void registerTrace(CLI::App& app) {
     addBackendOptions(*cmd, o->accel, o->backend, o->threads);
     cmd->add_option("--rays", o->rays, "float32 (N, 8) .npy: ox oy oz dx dy dz tmin tmax")
         ->required();
-    cmd->add_option("--out", o->out, "Output prefix: PREFIX.t.npy and PREFIX.prim.npy")
-        ->required();
+    cmd->add_option("--out", o->out, "Output prefix: PREFIX.t.npy and PREFIX.prim.npy")->required();
     cmd->callback([o] { runTrace(*o); });
 }
 

@@ -19,9 +19,8 @@ RTCGeometry triangleGeometry(RTCDevice device, const Scene& scene) {
     size_t n = scene.triangles.size();
     // Embree's vertex buffers are read with 16-byte loads: the last vertex needs 4 spare bytes,
     // which rtcSetNewGeometryBuffer's allocation provides.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                          3 * n));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
     if (!v || !idx) return g;  // the device error is reported by the caller

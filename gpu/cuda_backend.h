@@ -22,7 +22,7 @@ bool cudaDevicePresent(std::string& why);
 
 struct CudaTiming {
     double uploadSeconds = 0.0;
-    double kernelSeconds = 0.0;    // median of the timed launches (CUDA events)
+    double kernelSeconds = 0.0;  // median of the timed launches (CUDA events)
     double minKernelSeconds = 0.0;
     double maxKernelSeconds = 0.0;
     double downloadSeconds = 0.0;

@@ -18,15 +18,15 @@ namespace oct {
 
 }  // namespace oct
 
-#define OCT_CUDA_CHECK(call)                                                          \
-    do {                                                                              \
-        cudaError_t octErr_ = (call);                                                 \
+#define OCT_CUDA_CHECK(call)                                                                   \
+    do {                                                                                       \
+        cudaError_t octErr_ = (call);                                                          \
         if (octErr_ != cudaSuccess) ::oct::throwCudaError(octErr_, #call, __FILE__, __LINE__); \
     } while (0)
 
 // After every launch: the launch configuration error now, the execution error at the sync.
-#define OCT_CUDA_CHECK_LAUNCH()                   \
-    do {                                          \
-        OCT_CUDA_CHECK(cudaGetLastError());       \
-        OCT_CUDA_CHECK(cudaDeviceSynchronize());  \
+#define OCT_CUDA_CHECK_LAUNCH()                  \
+    do {                                         \
+        OCT_CUDA_CHECK(cudaGetLastError());      \
+        OCT_CUDA_CHECK(cudaDeviceSynchronize()); \
     } while (0)

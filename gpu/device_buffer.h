@@ -28,20 +28,22 @@ public:
         if (e != cudaSuccess) {
             ptr_ = nullptr;
             throw CudaError(std::string("cannot allocate ") + std::to_string(count * sizeof(T)) +
-                            " bytes of device memory for " + what + ": " +
-                            cudaGetErrorName(e) + " (use a smaller scene or --max-depth)");
+                            " bytes of device memory for " + what + ": " + cudaGetErrorName(e) +
+                            " (use a smaller scene or --max-depth)");
         }
         count_ = count;
     }
     void upload(const T* host, size_t count, const char* what) {
         allocate(count, what);
-        if (count) OCT_CUDA_CHECK(cudaMemcpy(ptr_, host, count * sizeof(T), cudaMemcpyHostToDevice));
+        if (count)
+            OCT_CUDA_CHECK(cudaMemcpy(ptr_, host, count * sizeof(T), cudaMemcpyHostToDevice));
     }
     void upload(const std::vector<T>& host, const char* what) {
         upload(host.data(), host.size(), what);
     }
     void download(T* host, size_t count) const {
-        if (count) OCT_CUDA_CHECK(cudaMemcpy(host, ptr_, count * sizeof(T), cudaMemcpyDeviceToHost));
+        if (count)
+            OCT_CUDA_CHECK(cudaMemcpy(host, ptr_, count * sizeof(T), cudaMemcpyDeviceToHost));
     }
     T* get() const { return ptr_; }
     size_t size() const { return count_; }

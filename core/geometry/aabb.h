@@ -20,7 +20,9 @@ struct Aabb {
 static_assert(sizeof(Aabb) == 24, "Aabb is two Vec3");
 
 // An empty box that any grow() replaces.
-inline Aabb emptyAabb() { return {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}}; }
+inline Aabb emptyAabb() {
+    return {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
+}
 inline void grow(Aabb& b, Vec3 p) {
     b.lo = vmin(b.lo, p);
     b.hi = vmax(b.hi, p);

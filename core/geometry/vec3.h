@@ -42,6 +42,8 @@ OCT_HD inline Vec3 vmin(Vec3 a, Vec3 b) {
 OCT_HD inline Vec3 vmax(Vec3 a, Vec3 b) {
     return {fmaxf(a.x, b.x), fmaxf(a.y, b.y), fmaxf(a.z, b.z)};
 }
-OCT_HD inline bool isFinite(Vec3 a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+OCT_HD inline bool isFinite(Vec3 a) {
+    return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
+}
 
 }  // namespace oct

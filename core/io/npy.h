@@ -25,8 +25,8 @@ std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint6
                                const void* data, size_t elementSize);
 
 // Writes atomically (output_file.h).
-void writeNpy(const std::string& path, const std::string& descr,
-              const std::vector<uint64_t>& shape, const void* data, size_t elementSize);
+void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
+              const void* data, size_t elementSize);
 
 // Reads a version 1.x or 2.x .npy file. Throws IoError naming the file and the problem for a
 // missing file, a bad magic or header, Fortran order, or a data size that disagrees with the

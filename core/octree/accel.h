@@ -24,9 +24,9 @@ struct LayoutOptions {
 struct BuiltScene {
     const Scene* scene = nullptr;
     Layout layout = Layout::Exhaustive;
-    Octree tree;          // empty for Exhaustive
-    LinearOctree linear;  // filled for Linear
-    HashOctree hash;      // filled for Hash
+    Octree tree;                // empty for Exhaustive
+    LinearOctree linear;        // filled for Linear
+    HashOctree hash;            // filled for Hash
     double buildSeconds = 0.0;  // octree build plus layout conversion
 
     PrimitivesView prims() const { return primitivesView(*scene); }

@@ -51,8 +51,8 @@ OctreeNode makeNode(const PendingNode& p, NodeType type) {
 
 void checkParams(const Scene& scene, const BuildParams& params) {
     if (params.maxDepth < 0 || params.maxDepth > kMaxOctreeDepth)
-        throw OctreeError("--max-depth " + std::to_string(params.maxDepth) +
-                          " is outside [0, " + std::to_string(kMaxOctreeDepth) +
+        throw OctreeError("--max-depth " + std::to_string(params.maxDepth) + " is outside [0, " +
+                          std::to_string(kMaxOctreeDepth) +
                           "]: a 64-bit Morton key holds 21 levels below the root");
     if (params.maxPrims == 0)
         throw OctreeError("--max-prims 0 would split every node: use 1 or more");
@@ -92,8 +92,8 @@ Aabb rootCube(const Scene& scene) {
     Vec3 e = b.extent();
     float half = 0.5f * std::max({e.x, e.y, e.z});
     // Pad relative to the size, and by an absolute amount for a flat or point-sized scene.
-    half = half * (1.0f + 1e-4f) + 1e-6f * (1.0f + std::max({std::fabs(c.x), std::fabs(c.y),
-                                                             std::fabs(c.z)}));
+    half = half * (1.0f + 1e-4f) +
+           1e-6f * (1.0f + std::max({std::fabs(c.x), std::fabs(c.y), std::fabs(c.z)}));
     return {c - makeVec3(half), c + makeVec3(half)};
 }
 

@@ -111,12 +111,12 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
         std::string head = "hash octree of " + std::to_string(tree.nodes.size()) + " nodes: ";
         std::string need = "m = " + std::to_string(m) + " buckets of B = " + std::to_string(B) +
                            " slots, " + mib(m * slotBytes);
-        return OctreeError(head +
-                           (grown ? "a bucket still overflows at every m within the budget of " +
-                                        mib(params.budgetBytes) + "; the next try is " + need
-                                  : "needs " + need + ", over the budget of " +
-                                        mib(params.budgetBytes)) +
-                           ": raise --hash-slots, lower --max-depth, or raise --hash-budget");
+        return OctreeError(
+            head +
+            (grown ? "a bucket still overflows at every m within the budget of " +
+                         mib(params.budgetBytes) + "; the next try is " + need
+                   : "needs " + need + ", over the budget of " + mib(params.budgetBytes)) +
+            ": raise --hash-slots, lower --max-depth, or raise --hash-budget");
     };
     HashOctree h;
     h.bucketSlots = B;
@@ -128,8 +128,7 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
     std::vector<uint32_t> fill;
     try {
         while (true) {
-            if (m > params.budgetBytes / slotBytes)
-                throw overBudget(m, h.growSteps > 0);
+            if (m > params.budgetBytes / slotBytes) throw overBudget(m, h.growSteps > 0);
             if (fits(tree, m, B, fill)) break;
             m = nextPrime(m + std::max<uint64_t>(1, m / 4));
             ++h.growSteps;

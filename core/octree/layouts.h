@@ -43,8 +43,8 @@ struct HashParams {
 };
 
 struct HashOctree {
-    uint64_t bucketCount = 0;  // m
-    uint32_t bucketSlots = 0;  // B
+    uint64_t bucketCount = 0;       // m
+    uint32_t bucketSlots = 0;       // B
     std::vector<OctreeNode> slots;  // m * B records
     uint32_t maxOccupancy = 0;      // fullest bucket
     double meanOccupancy = 0.0;     // over non-empty buckets

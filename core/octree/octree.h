@@ -28,7 +28,7 @@ struct BuildParams {
 };
 
 struct Octree {
-    Aabb root;                    // a cube around the scene (or the generator's domain)
+    Aabb root;  // a cube around the scene (or the generator's domain)
     PrimKind kind = PrimKind::Triangles;
     uint32_t primitiveCount = 0;  // primitives in the scene
     BuildParams params;           // as requested

@@ -14,10 +14,10 @@ namespace oct {
 
 // The scene's primitives: exactly one of tris/spheres is non-null, as kind says.
 struct PrimitivesView {
-    const Triangle* tris;     // 8 bytes
-    const Sphere* spheres;    // 8 bytes
-    uint32_t count;           // 4 bytes
-    PrimKind kind;            // 1 byte (+3 padding)
+    const Triangle* tris;   // 8 bytes
+    const Sphere* spheres;  // 8 bytes
+    uint32_t count;         // 4 bytes
+    PrimKind kind;          // 1 byte (+3 padding)
 };
 
 // Exhaustive tracing, the paper's baseline: every ray against every primitive.
@@ -45,8 +45,8 @@ struct LinearOctreeView {
 // bucket b occupies slots[b*B, b*B + B) and an unused slot has key 0 (no valid key is 0).
 struct HashOctreeView {
     const OctreeNode* slots;
-    uint64_t bucketCount;   // m
-    uint32_t bucketSlots;   // B
+    uint64_t bucketCount;  // m
+    uint32_t bucketSlots;  // B
     const uint32_t* primIndices;
     PrimitivesView prims;
 

@@ -18,13 +18,13 @@ struct Camera {
 // Phong shading of the paper's renderer (ambient + diffuse + specular, one point light with a
 // shadow ray); fixed material so that images of different tracers are comparable.
 struct ShadingParams {
-    Vec3 light;            // point light position
-    Vec3 surfaceColour;    // diffuse albedo
-    Vec3 background;       // colour of a miss
-    float ambient;         // ka
-    float diffuse;         // kd
-    float specular;        // ks; exponent fixed at 32 (see kernel.h)
-    float shadowBias;      // offset along the normal for the shadow ray origin, world units
+    Vec3 light;          // point light position
+    Vec3 surfaceColour;  // diffuse albedo
+    Vec3 background;     // colour of a miss
+    float ambient;       // ka
+    float diffuse;       // kd
+    float specular;      // ks; exponent fixed at 32 (see kernel.h)
+    float shadowBias;    // offset along the normal for the shadow ray origin, world units
 };
 
 struct FrameParams {

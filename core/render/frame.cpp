@@ -86,8 +86,8 @@ Film::Film(int w, int h)
       shadow(size_t(w) * size_t(h)) {}
 
 FilmView Film::view() {
-    return {rgb.data(), t.data(), prim.data(), nodes.data(), primsTested.data(),
-            shadow.data(), width, height};
+    return {rgb.data(),         t.data(),      prim.data(), nodes.data(),
+            primsTested.data(), shadow.data(), width,       height};
 }
 
 }  // namespace oct

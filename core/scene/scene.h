@@ -41,7 +41,7 @@ struct LoadReport {
 struct Scene {
     std::string name;  // path it came from, or the generator spec
     PrimKind kind = PrimKind::Triangles;
-    std::vector<Triangle> triangles;  // kind == Triangles: file face order (polygons fanned)
+    std::vector<Triangle> triangles;   // kind == Triangles: file face order (polygons fanned)
     std::vector<uint32_t> sourceFace;  // kind == Triangles: file face index of each triangle
     std::vector<Sphere> spheres;       // kind == Spheres: file point order
     LoadReport report;
@@ -53,7 +53,7 @@ struct Scene {
 
     uint32_t primitiveCount() const {
         return static_cast<uint32_t>(kind == PrimKind::Triangles ? triangles.size()
-                                                                  : spheres.size());
+                                                                 : spheres.size());
     }
     Aabb bounds() const;  // tight box around all primitives (spheres include their radius)
 };

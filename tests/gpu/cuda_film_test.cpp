@@ -34,8 +34,7 @@ size_t differingPixels(const Film& a, const Film& b) {
     size_t n = 0;
     for (size_t i = 0; i < a.pixelCount(); ++i) {
         bool same = std::memcmp(&a.t[i], &b.t[i], sizeof(float)) == 0 && a.prim[i] == b.prim[i] &&
-                    std::memcmp(&a.rgb[3 * i], &b.rgb[3 * i], 3) == 0 &&
-                    a.shadow[i] == b.shadow[i];
+                    std::memcmp(&a.rgb[3 * i], &b.rgb[3 * i], 3) == 0 && a.shadow[i] == b.shadow[i];
         n += !same;
     }
     return n;
