@@ -20,6 +20,10 @@
 namespace oct {
 namespace {
 
+// Ray sets keep 8 floats per ray plus four answer arrays per tracer: 1e8 rays are about 5 GB,
+// and the per-ray indices stay far below 2^32. More is a typo, refused before any allocation.
+constexpr uint64_t kMaxValidateRays = 100000000;
+
 struct ValidateCliOptions {
     SceneOptions scene;
     std::string accel = "linear,hash";
@@ -86,6 +90,18 @@ void parseSize(const std::string& text, int& w, int& h) {
     h = int(b);
 }
 
+// Where the human summary goes: stdout, unless the JSON report does (`--json -`), which must
+// then be the only thing on stdout so that it can be piped into a JSON reader.
+std::FILE* summaryStream(const std::string& jsonPath) { return jsonPath == "-" ? stderr : stdout; }
+
+void checkRayCount(uint64_t rays) {
+    if (rays > kMaxValidateRays)
+        throw std::runtime_error("--rays " + std::to_string(rays) + " is more than the " +
+                                 std::to_string(kMaxValidateRays) +
+                                 " seeded rays validate supports (each costs about 50 bytes "
+                                 "per tracer); use fewer");
+}
+
 void writeText(const std::string& path, const std::string& text) {
     if (path == "-") {
         std::cout << text;
@@ -109,8 +125,8 @@ void runTable1(const ValidateCliOptions& o) {
     std::vector<Table1Row> rows;
     for (const std::string& path : table1Meshes(o.meshes))
         rows.push_back(table1Row(path, o.scene.layoutOptions().build));
-    std::printf("Table 1 (max depth %d, max prims %u)\n%s", o.scene.maxDepth, o.scene.maxPrims,
-                humanTable1(rows).c_str());
+    std::fprintf(summaryStream(o.json), "Table 1 (max depth %d, max prims %u)\n%s",
+                 o.scene.maxDepth, o.scene.maxPrims, humanTable1(rows).c_str());
     if (!o.json.empty()) writeText(o.json, toJson(rows).dump(2) + "\n");
 }
 
@@ -118,6 +134,7 @@ void runValidate(const ValidateCliOptions& o) {
     if (o.table1) return runTable1(o);
     if (o.scene.path.empty())
         throw std::runtime_error("validate needs a SCENE (or --table1); see --help");
+    checkRayCount(o.rays);
     std::vector<Layout> layouts = parseLayouts(o.accel);
     std::vector<Backend> backends = parseBackends(o.backend);
     setCpuThreadsFromOption(o.threads);
@@ -156,13 +173,15 @@ void runValidate(const ValidateCliOptions& o) {
     }
 
     ValidationReport rep = validateScene(scene, tracers, canonical, vo);
-    std::fputs(humanSummary(rep).c_str(), stdout);
+    std::FILE* human = summaryStream(o.json);
+    std::fputs(humanSummary(rep).c_str(), human);
+    std::fflush(human);
     if (!o.json.empty()) writeText(o.json, toJson(rep).dump(2) + "\n");
     if (!o.diffImage.empty())
         for (const RunReport& run : rep.runs) {
             std::string path = diffPath(o.diffImage, run, rep.runs.size());
             writeDiffImage(path, run.film, rep.policy.tTolerance);
-            std::printf("wrote    %s\n", path.c_str());
+            std::fprintf(human, "wrote    %s\n", path.c_str());
         }
     std::fflush(stdout);
     if (!rep.passes())
@@ -170,7 +189,9 @@ void runValidate(const ValidateCliOptions& o) {
                                  std::to_string(rep.ambiguous()) + " ambiguous" +
                                  (rep.replication && !rep.replication->passes()
                                       ? ", " + std::to_string(rep.replication->falseNegatives) +
-                                            " replication false negatives"
+                                            " replication false negatives, " +
+                                            std::to_string(rep.replication->rangeErrors) +
+                                            " broken node ranges"
                                       : std::string()) +
                                  " (see the report above)");
 }
@@ -197,7 +218,8 @@ void registerValidate(CLI::App& app) {
         ->check(CLI::Range(1, 4096));
     cmd->add_option("--size", o->size, "Image size WxH of the per-pixel check")
         ->capture_default_str();
-    cmd->add_option("--rays", o->rays, "Seeded rays (around, inside, axis-parallel); 0 for none")
+    cmd->add_option("--rays", o->rays,
+                    "Seeded rays (around, inside, axis-parallel); 0 for none, at most 1e8")
         ->capture_default_str();
     cmd->add_option("--seed", o->seed, "Seed of the ray sets")->capture_default_str();
     cmd->add_option("--json", o->json, "Write the report as JSON to this file ('-': stdout)");

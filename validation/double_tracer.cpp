@@ -132,9 +132,9 @@ bool raySphere(const DoubleRay& r, DVec3 c, double radius, double& tHit) {
 }  // namespace
 
 const char* reasonName(int bit) {
-    static const char* names[kReasonCount] = {"edge_or_vertex", "grazing",      "degenerate",
-                                              "tangent",        "range_end",    "reference_off",
-                                              "terminator",     "not_rechecked"};
+    static const char* names[kReasonCount] = {"edge_or_vertex", "grazing",       "degenerate",
+                                              "tangent",        "range_end",     "reference_off",
+                                              "terminator",     "not_rechecked", "invalid_hit"};
     return bit >= 0 && bit < kReasonCount ? names[bit] : "unknown";
 }
 
@@ -177,6 +177,7 @@ DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
 }
 
 bool DoubleTracer::hit(uint32_t prim, const DoubleRay& r, double& t) const {
+    if (prim >= count_) return false;
     if (scene_->kind == PrimKind::Triangles) {
         const Triangle& tri = scene_->triangles[prim];
         return rayTriangle(r, d3(tri.v0), d3(tri.v1), d3(tri.v2), t);
@@ -264,12 +265,14 @@ uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, doubl
 }
 
 uint32_t DoubleTracer::touchiness(uint32_t prim, const DoubleRay& r) const {
+    if (prim >= count_) return 0;
     double tFar = clipFar(r);
     return scene_->kind == PrimKind::Triangles ? triangleTouchiness(prim, r, tFar)
                                                : sphereTouchiness(prim, r, tFar);
 }
 
 double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
+    if (prim >= count_) return INFINITY;
     if (scene_->kind == PrimKind::Triangles) {
         const Triangle& t = scene_->triangles[prim];
         return pointTriangleDist(p, d3(t.v0), d3(t.v1), d3(t.v2));

@@ -27,8 +27,9 @@ enum AmbiguityReason : uint32_t {
     kReferenceOff = 1u << 5,  // the double truth agrees with ours; the reference differs
     kTerminator = 1u << 6,    // only one tracer cast a shadow ray (surface edge-on to light)
     kNotRechecked = 1u << 7,  // over the recheck budget: counted as wrong, never ambiguous
+    kInvalidHit = 1u << 8,    // ours reported a non-finite t or a primitive id out of range: wrong
 };
-constexpr int kReasonCount = 8;
+constexpr int kReasonCount = 9;
 const char* reasonName(int bit);            // "edge_or_vertex", "grazing", ...
 std::string reasonNames(uint32_t reasons);  // comma-separated, "" for none
 
@@ -57,6 +58,8 @@ public:
     Hit closest(const DoubleRay& r) const;
     // Every primitive hit with t in [tmin, tmax], as (t, id), ascending t.
     std::vector<std::pair<double, uint32_t>> allHits(const DoubleRay& r) const;
+    // The per-primitive queries below take ids from the tracer under test, which may be
+    // corrupt: an id >= primitiveCount() is never indexed (no hit, no touchiness, +inf away).
     // Hit test of one primitive; t is the hit distance when it returns true.
     bool hit(uint32_t prim, const DoubleRay& r, double& t) const;
     // Why the answer for this primitive could flip under a perturbation of the ray by the

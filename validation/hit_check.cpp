@@ -31,24 +31,46 @@ HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
       extent_(sceneExtent(scene)),
       truth_(scene, {policy.edgeTolerance * sceneExtent(scene), policy.grazingCos}) {}
 
+bool HitClassifier::malformed(Hit h) const {
+    if (h.prim < 0) return false;
+    return !std::isfinite(h.t) || uint32_t(h.prim) >= truth_.primitiveCount();
+}
+
 double HitClassifier::relativeDt(Hit a, Hit b, float dirLength) const {
     bool ha = a.prim >= 0, hb = b.prim >= 0;
     if (!ha && !hb) return 0.0;
     if (ha != hb) return INFINITY;
+    if (!std::isfinite(a.t) || !std::isfinite(b.t)) return INFINITY;
     return std::fabs(double(a.t) - double(b.t)) * double(dirLength) / extent_;
 }
 
-HitClass HitClassifier::compare(Hit ours, Hit reference, float dirLength) const {
+bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const {
+    if (ours.prim < 0 || malformed(ours)) return false;
+    const DoubleRay dr = toDoubleRay(ray);
+    const double t = double(ours.t);
+    const DVec3 p = {dr.org.x + dr.dir.x * t, dr.org.y + dr.dir.y * t, dr.org.z + dr.dir.z * t};
+    return truth_.distanceTo(uint32_t(ours.prim), p) <= truth_.tolerance().distance;
+}
+
+HitClass HitClassifier::compare(const Ray& ray, Hit ours, Hit reference) const {
+    // A malformed answer on either side goes to the recheck: ours is wrong there (invalid_hit),
+    // and a broken reference must not make a tie or an agreement out of nothing.
+    if (malformed(ours) || malformed(reference)) return HitClass::Wrong;
     bool ho = ours.prim >= 0, hr = reference.prim >= 0;
     if (!ho && !hr) return HitClass::Agree;
     if (ho != hr) return HitClass::Wrong;
-    if (relativeDt(ours, reference, dirLength) > policy_.tTolerance) return HitClass::Wrong;
-    return ours.prim == reference.prim ? HitClass::Agree : HitClass::Tie;
+    // Written as !(<=) so that a NaN difference is a mismatch, never an agreement.
+    if (!(relativeDt(ours, reference, length(ray.dir)) <= policy_.tTolerance))
+        return HitClass::Wrong;
+    if (ours.prim == reference.prim) return HitClass::Agree;
+    // Another primitive at the same t: right only where ours really is at that point; a wrong
+    // primitive far from any shared edge shades with the wrong normal, so it is rechecked.
+    return tieHolds(ray, ours) ? HitClass::Tie : HitClass::Wrong;
 }
 
 Verdict HitClassifier::closest(const Ray& ray, Hit ours, Hit reference) const {
     Verdict v;
-    v.cls = compare(ours, reference, length(ray.dir));
+    v.cls = compare(ray, ours, reference);
     if (v.cls != HitClass::Wrong) return v;
     return recheckClosest(ray, ours);
 }
@@ -63,6 +85,11 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     const double tTol = tolAbs / dirLength;              // in units of t
     auto hits = truth_.allHits(dr);
     if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
+    if (malformed(ours)) {  // nothing to recheck: no primitive of the scene is there
+        v.cls = HitClass::Wrong;
+        v.reasons = kInvalidHit;
+        return v;
+    }
     const bool oursHit = ours.prim >= 0;
     const double tOurs = oursHit ? double(ours.t) : INFINITY;
     const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
@@ -70,8 +97,10 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     bool clean = false;  // an error nothing excuses
     uint32_t reasons = 0;
     // 1. Our own answer: a hit on q at tOurs, confirmed when the double test hits q within the
-    // tolerance of tOurs, or when our hit point lies within the tolerance of q itself (a
-    // grazing ray: the same small distance off the surface is a long way along the ray).
+    // tolerance of tOurs, or when our hit point lies within the edge tolerance of q itself (a
+    // grazing ray: the same small distance off the surface is a long way along the ray). The
+    // edge tolerance, not the t tolerance: a point off the surface is off sideways, and the
+    // t tolerance (5x larger) would excuse a perpendicular ray that clearly misses q's edge.
     if (oursHit) {
         double tq;
         bool confirmed = truth_.hit(q, dr, tq) && std::fabs(tq - tOurs) <= tTol;
@@ -79,7 +108,7 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
             uint32_t r = truth_.touchiness(q, dr);
             DVec3 p = {dr.org.x + dr.dir.x * tOurs, dr.org.y + dr.dir.y * tOurs,
                        dr.org.z + dr.dir.z * tOurs};
-            if (r == 0 && truth_.distanceTo(q, p) <= tolAbs) r = kGrazing;
+            if (r == 0 && truth_.distanceTo(q, p) <= truth_.tolerance().distance) r = kGrazing;
             if (r == 0) clean = true;
             reasons |= r;
         }

@@ -2,11 +2,14 @@
 // occlusion (shadow) queries: ours against a reference tracer (Embree), and on a mismatch a
 // recheck against the double-precision, brute-force truth of double_tracer.h.
 //
-// Closest hits, first step: both miss -> agree; both hit with |dt| <= tTolerance * extent ->
-// agree, or a tie when the primitives differ; anything else is a mismatch, rechecked:
+// Closest hits, first step: a hit of ours with a non-finite t or a primitive id out of range
+// is malformed, wrong whatever the reference says (reason invalid_hit); both miss -> agree;
+// both hit with |dt| <= tTolerance * extent -> agree, or a tie when the primitives differ and
+// our primitive passes within edgeTolerance * extent of our hit point (a shared edge or vertex:
+// both answers are right); anything else, a NaN included, is a mismatch, rechecked:
 //  1. our own hit (primitive q at t): confirmed when the truth hits q within the tolerance of
-//     t, or when our hit point lies within tTolerance * extent of q's surface (the error of a
-//     grazing ray is small across the surface and long along the ray: reason grazing);
+//     t, or when our hit point lies within edgeTolerance * extent of q's surface (the error of
+//     a grazing ray is small across the surface and long along the ray: reason grazing);
 //     otherwise q must be touchy for this ray (edge or vertex, grazing, degenerate, tangent,
 //     range end) or the mismatch is wrong;
 //  2. every primitive the truth hits clearly before our t: ours missed it, which only a touchy
@@ -38,8 +41,9 @@ struct ValidationPolicy {
     // Fail when ambiguous / compared exceeds this, separately for primary pixels, shadow rays
     // and the ray sets.
     double maxAmbiguousRate = 1e-3;
-    // Mismatches rechecked in double (each costs one brute-force pass over the primitives);
-    // beyond this they count as wrong with reason not_rechecked.
+    // Mismatches rechecked in double (each costs one brute-force pass over the primitives),
+    // per check: primary pixels, shadow rays and the ray set each have this many; beyond it
+    // they count as wrong with reason not_rechecked.
     uint64_t maxRechecks = 20000;
     // Findings kept for the report: the worst pixels, shadow rays and rays.
     int worstCount = 16;
@@ -50,7 +54,7 @@ const char* hitClassName(HitClass c);  // "agree", "tie", "ambiguous", "wrong"
 
 struct Verdict {
     HitClass cls = HitClass::Agree;
-    uint32_t reasons = 0;  // AmbiguityReason bits (for ambiguous, and kNotRechecked)
+    uint32_t reasons = 0;  // AmbiguityReason bits (ambiguous; kNotRechecked, kInvalidHit)
     bool rechecked = false;
     Hit truth = {INFINITY, -1};  // double-precision closest hit (closest queries, rechecked)
     bool truthOccluded = false;  // occlusion queries, rechecked
@@ -65,9 +69,18 @@ public:
     double extent() const { return extent_; }
     const DoubleTracer& truth() const { return truth_; }
 
-    // The cheap first step: Agree, Tie, or Wrong standing for "mismatch, recheck it".
-    HitClass compare(Hit ours, Hit reference, float dirLength = 1.0f) const;
-    // |dt| / extent for two hits, +inf when exactly one hits, 0 when both miss.
+    // The first step: Agree, Tie, or Wrong standing for "mismatch, recheck it". Needs the ray
+    // only to confirm a tie (tieHolds); everything else is |dt| and the primitive ids.
+    HitClass compare(const Ray& ray, Hit ours, Hit reference) const;
+    // A hit no correct tracer reports: t not finite, or a primitive id >= the scene's count.
+    // A miss (prim < 0) is well-formed whatever its t.
+    bool malformed(Hit h) const;
+    // A different primitive at the same t is a tie only when our primitive passes within the
+    // edge tolerance of our hit point: a shared edge or vertex, or surfaces crossing there.
+    // O(1): one point-to-primitive distance.
+    bool tieHolds(const Ray& ray, Hit ours) const;
+    // |dt| / extent for two hits, +inf when exactly one hits or either hit's t is not finite
+    // (never NaN, so a maximum over it cannot hide a broken hit), 0 when both miss.
     double relativeDt(Hit a, Hit b, float dirLength = 1.0f) const;
 
     // Full verdict for one closest-hit query (rechecks a mismatch).

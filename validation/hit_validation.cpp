@@ -10,6 +10,16 @@
 #include "core/render/kernel.h"
 
 namespace oct {
+namespace {
+
+// A running maximum of |dt| / extent that a NaN cannot hide (std::max(m, NaN) keeps m): a NaN
+// counts as +inf, the value of a hit that is not there.
+void raiseMax(double& m, double v) {
+    if (std::isnan(v)) v = INFINITY;
+    if (v > m) m = v;
+}
+
+}  // namespace
 
 void ClassCounts::count(HitClass c, uint32_t why) {
     ++compared;
@@ -41,7 +51,7 @@ void ClassCounts::merge(const ClassCounts& o) {
     mismatches += o.mismatches;
     rechecked += o.rechecked;
     for (int b = 0; b < kReasonCount; ++b) reasons[b] += o.reasons[b];
-    maxRelativeDt = std::max(maxRelativeDt, o.maxRelativeDt);
+    raiseMax(maxRelativeDt, o.maxRelativeDt);
 }
 
 namespace {
@@ -84,6 +94,11 @@ std::vector<uint64_t> worstIndices(std::vector<Candidate>& c, int count) {
 }
 double shadowDt(const ShadowFinding&) { return 0.0; }
 
+// A mismatch over the recheck budget is wrong; say too when our hit was malformed.
+uint32_t notRecheckedReasons(const HitClassifier& c, Hit ours) {
+    return kNotRechecked | (c.malformed(ours) ? uint32_t(kInvalidHit) : 0u);
+}
+
 // Runs f(i) for i in [0, n) on the OpenMP threads; each call writes only its own slot.
 template <class F>
 void parallelFor(size_t n, F&& f) {
@@ -91,9 +106,15 @@ void parallelFor(size_t n, F&& f) {
     for (int64_t i = 0; i < int64_t(n); ++i) f(size_t(i));
 }
 
-// Our shadow ray, rebuilt exactly as the kernel builds it from our hit (kernel.h).
+// Our shadow ray, rebuilt exactly as the kernel builds it from our hit (kernel.h). Only
+// well-formed hits get here (compare() sends the others to the recheck), but a corrupt id must
+// never index the primitive arrays: for one, facing is NaN (never edge-on) and the ray empty.
 Ray ourShadowRay(const FrameParams& p, const PrimitivesView& prims, const Ray& primary, Hit h,
                  float& facing) {
+    if (h.prim < 0 || uint32_t(h.prim) >= prims.count || !std::isfinite(h.t)) {
+        facing = NAN;
+        return Ray{};
+    }
     Vec3 pos = primary.org + primary.dir * h.t;
     Vec3 n = hitNormal(prims, h.prim, pos, primary.dir);
     float lightDist;
@@ -130,9 +151,9 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
         Hit o = {ours.t[i], ours.prim[i]}, r = {reference.t[i], reference.prim[i]};
         double rel = c.relativeDt(o, r);
         v.relativeDt[i] = float(rel);
-        if (o.prim >= 0 && r.prim >= 0)
-            v.primary.maxRelativeDt = std::max(v.primary.maxRelativeDt, rel);
-        HitClass k = c.compare(o, r);
+        if (o.prim >= 0 && r.prim >= 0) raiseMax(v.primary.maxRelativeDt, rel);
+        int x = int(i % size_t(p.width)), y = int(i / size_t(p.width));
+        HitClass k = c.compare(primaryRay(p.camera, x, y, p.width, p.height), o, r);
         primaryVerdict[i].cls = k;
         if (k == HitClass::Wrong) {
             ++v.primary.mismatches;
@@ -150,19 +171,20 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
         }
     }
 
-    // Pass 2: rechecks in double, in parallel, within the budget (primary rays first).
-    uint64_t budget = pol.maxRechecks;
-    size_t nPrimary = std::min<size_t>(primaryQueue.size(), budget);
-    budget -= nPrimary;
-    size_t nShadow = std::min<size_t>(shadowQueue.size(), budget);
+    // Pass 2: rechecks in double, in parallel, each check within its own budget, so that a
+    // flood of primary mismatches cannot leave the shadow rays unchecked.
+    size_t nPrimary = std::min<size_t>(primaryQueue.size(), pol.maxRechecks);
+    size_t nShadow = std::min<size_t>(shadowQueue.size(), pol.maxRechecks);
     parallelFor(nPrimary, [&](size_t k) {
         size_t i = primaryQueue[k];
         int x = int(i % size_t(p.width)), y = int(i / size_t(p.width));
         Ray ray = primaryRay(p.camera, x, y, p.width, p.height);
         primaryVerdict[i] = c.recheckClosest(ray, {ours.t[i], ours.prim[i]});
     });
-    for (size_t k = nPrimary; k < primaryQueue.size(); ++k)
-        primaryVerdict[primaryQueue[k]].reasons = kNotRechecked;
+    for (size_t k = nPrimary; k < primaryQueue.size(); ++k) {
+        size_t i = primaryQueue[k];
+        primaryVerdict[i].reasons = notRecheckedReasons(c, {ours.t[i], ours.prim[i]});
+    }
 
     std::vector<ShadowFinding> shadowFindings(shadowQueue.size());
     parallelFor(shadowQueue.size(), [&](size_t k) {
@@ -176,13 +198,16 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
         Hit o = {ours.t[i], ours.prim[i]}, r = {reference.t[i], reference.prim[i]};
         if (f.ours == kNoShadowRay || f.reference == kNoShadowRay) {
             // One surface faces the light and the other does not: legitimate for two primitives
-            // meeting at an edge (a tie), or for one primitive edge-on to the light.
+            // meeting at an edge (a genuine tie: compare() checked that our primitive is at our
+            // hit point), or for one primitive edge-on to the light. A different primitive that
+            // is not a tie never gets here: it was a primary mismatch.
             float facingO = 0.0f, facingR = 0.0f;
             f.ray = ourShadowRay(p, prims, primary, o, facingO);
             ourShadowRay(p, prims, primary, r, facingR);
             bool edgeOn =
                 std::fabs(facingO) <= pol.grazingCos || std::fabs(facingR) <= pol.grazingCos;
-            f.cls = o.prim != r.prim || edgeOn ? HitClass::Ambiguous : HitClass::Wrong;
+            bool tie = primaryVerdict[i].cls == HitClass::Tie;
+            f.cls = tie || edgeOn ? HitClass::Ambiguous : HitClass::Wrong;
             f.reasons = f.cls == HitClass::Ambiguous ? uint32_t(kTerminator) : 0u;
             return;
         }
@@ -276,21 +301,24 @@ RayValidation validateRays(const HitClassifier& c, const ValidationRays& rays,
     };
     RayValidation v;
     std::vector<Verdict> verdict(n);
-    std::vector<uint32_t> queue;
+    std::vector<size_t> queue;  // size_t: a ray set may exceed 2^32 rays in principle
     std::vector<double> rel(n);
     for (size_t i = 0; i < n; ++i) {
         Hit o = {tOurs[i], pOurs[i]}, r = {tRef[i], pRef[i]};
-        float dl = length(rayAt(i).dir);
-        rel[i] = c.relativeDt(o, r, dl);
-        verdict[i].cls = c.compare(o, r, dl);
-        if (verdict[i].cls == HitClass::Wrong) queue.push_back(uint32_t(i));
+        Ray ray = rayAt(i);
+        rel[i] = c.relativeDt(o, r, length(ray.dir));
+        verdict[i].cls = c.compare(ray, o, r);
+        if (verdict[i].cls == HitClass::Wrong) queue.push_back(i);
     }
     size_t nCheck = std::min<size_t>(queue.size(), c.policy().maxRechecks);
     parallelFor(nCheck, [&](size_t k) {
         size_t i = queue[k];
         verdict[i] = c.recheckClosest(rayAt(i), {tOurs[i], pOurs[i]});
     });
-    for (size_t k = nCheck; k < queue.size(); ++k) verdict[queue[k]].reasons = kNotRechecked;
+    for (size_t k = nCheck; k < queue.size(); ++k) {
+        size_t i = queue[k];
+        verdict[i].reasons = notRecheckedReasons(c, {tOurs[i], pOurs[i]});
+    }
 
     std::vector<Candidate> candidates;
     for (size_t i = 0; i < n; ++i) {
@@ -302,7 +330,7 @@ RayValidation validateRays(const HitClassifier& c, const ValidationRays& rays,
         kc.mismatches += mismatch;
         kc.rechecked += vd.rechecked;
         if (o.prim < 0 && r.prim < 0) ++kc.bothMiss;
-        if (o.prim >= 0 && r.prim >= 0) kc.maxRelativeDt = std::max(kc.maxRelativeDt, rel[i]);
+        if (o.prim >= 0 && r.prim >= 0) raiseMax(kc.maxRelativeDt, rel[i]);
         if (mismatch || vd.cls == HitClass::Tie || rel[i] > 0.0)
             candidates.push_back({severity(vd.cls), rel[i], i});
     }

@@ -26,8 +26,10 @@ struct ClassCounts {
     uint64_t wrong = 0;
     uint64_t mismatches = 0;  // before the recheck (hit/miss or |dt| beyond tolerance)
     uint64_t rechecked = 0;
-    std::array<uint64_t, kReasonCount> reasons{};  // ambiguous (and not_rechecked) by reason
-    double maxRelativeDt = 0.0;                    // over queries where both hit: |dt| / extent
+    // Ambiguous by reason; wrong ones only by not_rechecked and invalid_hit.
+    std::array<uint64_t, kReasonCount> reasons{};
+    // Over queries where both hit: |dt| / extent; +inf when a t was not finite.
+    double maxRelativeDt = 0.0;
 
     double ambiguousRate() const { return compared ? double(ambiguous) / double(compared) : 0.0; }
     double wrongRate() const { return compared ? double(wrong) / double(compared) : 0.0; }

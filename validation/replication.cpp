@@ -35,6 +35,40 @@ struct LeafTest {
     bool exact, dbl;
 };
 
+constexpr size_t kKeepMessages = 32;
+
+// Why node k's ranges cannot be read (a message naming the node), or "" when they can. The
+// check exists to diagnose broken trees, so it must not read out of bounds through one.
+std::string rangeError(const Octree& tree, uint32_t k) {
+    const OctreeNode& nd = tree.nodes[k];
+    const std::string name = "node " + std::to_string(k) + " (key " + std::to_string(nd.key) +
+                             ", depth " + std::to_string(nd.depth) + ")";
+    if (nd.nodeType() == NodeType::Internal) {
+        const uint64_t first = tree.firstChild[k];
+        if (first <= k || first + 8 > tree.nodes.size())
+            return name + ": children [" + std::to_string(first) + ", " +
+                   std::to_string(first + 8) + ") lie outside nodes [" + std::to_string(k + 1) +
+                   ", " + std::to_string(tree.nodes.size()) + ")";
+        return "";
+    }
+    const uint64_t end = uint64_t(nd.primOffset) + nd.primCount;
+    if (end > tree.primIndices.size())
+        return name + ": leaf list [" + std::to_string(nd.primOffset) + ", " + std::to_string(end) +
+               ") lies outside the " + std::to_string(tree.primIndices.size()) +
+               " primitive indices";
+    return "";
+}
+
+// Leaf k's list, sorted; empty for a node whose range is broken.
+std::vector<uint32_t> sortedList(const Octree& tree, uint32_t k, bool brokenRange) {
+    if (brokenRange) return {};
+    const OctreeNode& nd = tree.nodes[k];
+    std::vector<uint32_t> list(tree.primIndices.begin() + nd.primOffset,
+                               tree.primIndices.begin() + nd.primOffset + nd.primCount);
+    std::sort(list.begin(), list.end());
+    return list;
+}
+
 }  // namespace
 
 ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
@@ -51,15 +85,22 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
     rep.primitives = nPrims;
     rep.octreeFaces = tree.referenceCount();
 
+    std::vector<uint8_t> broken(tree.nodes.size(), 0);  // 1: a range error, not read through
+    for (uint32_t k = 0; k < tree.nodes.size(); ++k) {
+        std::string why = rangeError(tree, k);
+        if (why.empty()) continue;
+        broken[k] = 1;
+        ++rep.rangeErrors;
+        if (rep.structuralErrors.size() < kKeepMessages) rep.structuralErrors.push_back(why);
+    }
+
     // Inverse index of the leaf lists (CSR): leaves listing each primitive, ascending node.
     std::vector<uint64_t> offset(size_t(nPrims) + 1, 0);
     for (uint32_t k = 0; k < tree.nodes.size(); ++k) {
         const OctreeNode& nd = tree.nodes[k];
         if (nd.nodeType() == NodeType::Internal) continue;
         ++rep.leaves;
-        std::vector<uint32_t> list(tree.primIndices.begin() + nd.primOffset,
-                                   tree.primIndices.begin() + nd.primOffset + nd.primCount);
-        std::sort(list.begin(), list.end());
+        std::vector<uint32_t> list = sortedList(tree, k, broken[k]);
         for (size_t j = 0; j < list.size(); ++j) {
             if (list[j] >= nPrims) {
                 ++rep.indexOutOfRange;
@@ -79,9 +120,7 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
         for (uint32_t k = 0; k < tree.nodes.size(); ++k) {
             const OctreeNode& nd = tree.nodes[k];
             if (nd.nodeType() == NodeType::Internal) continue;
-            std::vector<uint32_t> list(tree.primIndices.begin() + nd.primOffset,
-                                       tree.primIndices.begin() + nd.primOffset + nd.primCount);
-            std::sort(list.begin(), list.end());
+            std::vector<uint32_t> list = sortedList(tree, k, broken[k]);
             list.erase(std::unique(list.begin(), list.end()), list.end());
             for (uint32_t p : list)
                 if (p < nPrims) listedNode[fill[p]++] = k;
@@ -127,6 +166,7 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
                 bool db = doubleTest(p, nd.box);
                 if (!ex && !db) continue;
                 if (nd.nodeType() == NodeType::Internal) {
+                    if (broken[k]) continue;  // counted above; its children are unknown
                     for (uint32_t c = 0; c < 8; ++c) stack.push_back(tree.firstChild[k] + c);
                 } else {
                     reached.push_back({k, ex, db});

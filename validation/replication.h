@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "core/octree/octree.h"
@@ -53,6 +54,12 @@ struct ReplicationReport {
     uint64_t indexOutOfRange = 0;     // an entry naming no primitive
     uint64_t duplicateEntries = 0;    // a primitive listed twice in one leaf
     uint64_t unlistedPrimitives = 0;  // primitives in no leaf at all
+    // Nodes whose ranges point outside the tree's arrays: a leaf's list [primOffset,
+    // primOffset + primCount) beyond primIndices, or an internal node's children [firstChild,
+    // firstChild + 8) beyond nodes or not after the node (the order is breadth-first). Such a
+    // node is not read through (its list counts as empty, its children are not visited).
+    uint64_t rangeErrors = 0;
+    std::vector<std::string> structuralErrors;  // the first range errors, naming the node (32)
     // Replication count (leaves a primitive is listed in) -> number of primitives.
     std::map<uint32_t, uint64_t> distribution;
     uint32_t maxReplication = 0;
@@ -63,7 +70,8 @@ struct ReplicationReport {
     double seconds = 0.0;
 
     bool passes() const {
-        return falseNegatives == 0 && indexOutOfRange == 0 && duplicateEntries == 0;
+        return falseNegatives == 0 && indexOutOfRange == 0 && duplicateEntries == 0 &&
+               rangeErrors == 0;
     }
 };
 

@@ -141,6 +141,8 @@ json toJson(const ReplicationReport& r) {
             {"index_out_of_range", r.indexOutOfRange},
             {"duplicate_entries", r.duplicateEntries},
             {"unlisted_primitives", r.unlistedPrimitives},
+            {"range_errors", r.rangeErrors},
+            {"structural_errors", r.structuralErrors},
             {"distribution", dist},
             {"max_replication", r.maxReplication},
             {"mean_replication", r.meanReplication},
@@ -255,6 +257,10 @@ std::string humanSummary(const ReplicationReport& r) {
                 "no leaf\n",
                 (unsigned long long)r.indexOutOfRange, (unsigned long long)r.duplicateEntries,
                 (unsigned long long)r.unlistedPrimitives);
+    if (r.rangeErrors) {
+        s += fmt("  broken node ranges: %llu\n", (unsigned long long)r.rangeErrors);
+        for (const std::string& e : r.structuralErrors) s += "    " + e + "\n";
+    }
     s += "  replication count: primitives";
     int shown = 0;
     for (const auto& [count, prims] : r.distribution) {

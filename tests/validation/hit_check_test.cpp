@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "validation/hit_validation.h"
+
 namespace oct {
 namespace {
 
@@ -29,13 +31,50 @@ struct HitCheck : ::testing::Test {
 };
 
 TEST_F(HitCheck, FirstStepFollowsThePolicy) {
-    EXPECT_EQ(c.compare({INFINITY, -1}, {INFINITY, -1}), HitClass::Agree);
-    EXPECT_EQ(c.compare({1.0f, 0}, {1.0f, 0}), HitClass::Agree);
+    const Ray inside = down(0.7f, 0.2f), diagonal = down(0.5f, 0.5f);
+    EXPECT_EQ(c.compare(inside, {INFINITY, -1}, {INFINITY, -1}), HitClass::Agree);
+    EXPECT_EQ(c.compare(inside, {1.0f, 0}, {1.0f, 0}), HitClass::Agree);
     float tol = float(policy.tTolerance * c.extent());
-    EXPECT_EQ(c.compare({1.0f, 0}, {1.0f + 0.5f * tol, 0}), HitClass::Agree);
-    EXPECT_EQ(c.compare({1.0f, 0}, {1.0f + 0.5f * tol, 1}), HitClass::Tie);
-    EXPECT_EQ(c.compare({1.0f, 0}, {1.0f + 2.0f * tol, 0}), HitClass::Wrong);  // mismatch
-    EXPECT_EQ(c.compare({1.0f, 0}, {INFINITY, -1}), HitClass::Wrong);
+    EXPECT_EQ(c.compare(inside, {1.0f, 0}, {1.0f + 0.5f * tol, 0}), HitClass::Agree);
+    EXPECT_EQ(c.compare(diagonal, {1.0f, 0}, {1.0f + 0.5f * tol, 1}), HitClass::Tie);
+    // The same pair of answers where triangle 1 is nowhere near the hit point: not a tie.
+    EXPECT_EQ(c.compare(inside, {1.0f, 1}, {1.0f + 0.5f * tol, 0}), HitClass::Wrong);
+    EXPECT_EQ(c.compare(inside, {1.0f, 0}, {1.0f + 2.0f * tol, 0}), HitClass::Wrong);  // mismatch
+    EXPECT_EQ(c.compare(inside, {1.0f, 0}, {INFINITY, -1}), HitClass::Wrong);
+}
+
+TEST_F(HitCheck, MalformedHitsOfOursAreWrong) {
+    const Ray inside = down(0.7f, 0.2f);
+    // A NaN distance: |dt| is NaN, which a plain `> tolerance` let through as an agreement.
+    Verdict v = c.closest(inside, {NAN, 0}, {1.0f, 0});
+    EXPECT_EQ(v.cls, HitClass::Wrong);
+    EXPECT_EQ(v.reasons, uint32_t(kInvalidHit)) << reasonNames(v.reasons);
+    EXPECT_EQ(c.relativeDt({NAN, 0}, {1.0f, 0}), INFINITY) << "a NaN must not hide in a max";
+    // A primitive id the scene does not have (3 primitives), at the right distance: it was a
+    // tie; against a miss it reached the double tracer's arrays.
+    v = c.closest(inside, {1.0f, 999}, {1.0f, 0});
+    EXPECT_EQ(v.cls, HitClass::Wrong);
+    EXPECT_EQ(v.reasons, uint32_t(kInvalidHit));
+    EXPECT_EQ(c.closest(inside, {1.0f, 999}, {INFINITY, -1}).cls, HitClass::Wrong);
+    EXPECT_EQ(c.closest(down(2.0f, 0.5f), {NAN, 2}, {INFINITY, -1}).cls, HitClass::Wrong);
+    EXPECT_EQ(c.closest(inside, {INFINITY, 0}, {1.0f, 0}).cls, HitClass::Wrong);
+    EXPECT_EQ(c.closest(inside, {1.0f, 3}, {1.0f, 0}).reasons, uint32_t(kInvalidHit));
+    // The truth never indexes a primitive it does not have.
+    double t = 0.0;
+    EXPECT_FALSE(c.truth().hit(999, toDoubleRay(inside), t));
+    EXPECT_EQ(c.truth().touchiness(999, toDoubleRay(inside)), 0u);
+    EXPECT_EQ(c.truth().distanceTo(999, {0.7, 0.2, 0.0}), INFINITY);
+}
+
+TEST_F(HitCheck, AMalformedReferenceIsNoTie) {
+    // Embree naming a primitive we do not have: ours is rechecked, found right, and the
+    // reference is the one off.
+    Verdict v = c.closest(down(0.7f, 0.2f), {1.0f, 0}, {1.0f, 999});
+    EXPECT_EQ(v.cls, HitClass::Ambiguous);
+    EXPECT_TRUE(v.reasons & kReferenceOff) << reasonNames(v.reasons);
+    v = c.closest(down(0.7f, 0.2f), {1.0f, 0}, {NAN, 0});
+    EXPECT_EQ(v.cls, HitClass::Ambiguous);
+    EXPECT_TRUE(v.reasons & kReferenceOff) << reasonNames(v.reasons);
 }
 
 TEST_F(HitCheck, MissingAClearHitIsWrong) {
@@ -56,8 +95,25 @@ TEST_F(HitCheck, AHitTheTruthDoesNotConfirmIsWrong) {
 }
 
 TEST_F(HitCheck, TheSharedEdgeIsATie) {
-    // Through the diagonal: either triangle is right at the same t.
-    EXPECT_EQ(c.closest(down(0.5f, 0.5f), {1.0f, 0}, {1.0f, 1}).cls, HitClass::Tie);
+    // Through the diagonal: either triangle is right at the same t, whichever one is ours.
+    Verdict v = c.closest(down(0.5f, 0.5f), {1.0f, 0}, {1.0f, 1});
+    EXPECT_EQ(v.cls, HitClass::Tie);
+    EXPECT_FALSE(v.rechecked);
+    EXPECT_EQ(c.closest(down(0.5f, 0.5f), {1.0f, 1}, {1.0f, 0}).cls, HitClass::Tie);
+    // Within float noise of the diagonal (1 ulp off it) still a tie.
+    float off = std::nextafter(0.5f, 1.0f);
+    EXPECT_EQ(c.closest(down(off, 0.5f), {1.0f, 1}, {1.0f, 0}).cls, HitClass::Tie);
+}
+
+TEST_F(HitCheck, AWrongPrimitiveAtTheRightDistanceIsWrong) {
+    // (0.7, 0.2) is 0.35 from the diagonal, deep inside triangle 0: triangle 1 at the same t is
+    // a wrong answer (it would be shaded with triangle 1's normal), not a tie.
+    Verdict v = c.closest(down(0.7f, 0.2f), {1.0f, 1}, {1.0f, 0});
+    EXPECT_EQ(v.cls, HitClass::Wrong) << hitClassName(v.cls) << " " << reasonNames(v.reasons);
+    EXPECT_TRUE(v.rechecked);
+    EXPECT_EQ(v.truth.prim, 0);
+    // The far triangle: the same.
+    EXPECT_EQ(c.closest(down(0.7f, 0.2f), {1.0f, 2}, {1.0f, 0}).cls, HitClass::Wrong);
 }
 
 TEST_F(HitCheck, SilhouetteEdgeMismatchIsAmbiguous) {
@@ -74,6 +130,21 @@ TEST_F(HitCheck, SilhouetteEdgeMismatchIsAmbiguous) {
     // Far enough inside the edge it is a plain miss: wrong.
     v = c.closest(down(0.99f, 0.5f), {INFINITY, -1}, {1.0f, 0});
     EXPECT_EQ(v.cls, HitClass::Wrong);
+}
+
+TEST_F(HitCheck, ClearlyOutsideAnEdgeIsWrongNotGrazing) {
+    // A perpendicular ray 5e-5 outside the quad's edge x = 1 (extent about 10: the edge
+    // tolerance is 2e-5, the t tolerance 1e-4). Our hit point is 5e-5 off the triangle, which
+    // is sideways, not along the ray: no grazing excuse.
+    ASSERT_NEAR(c.extent(), 9.97, 0.01);
+    for (float dx : {3e-5f, 5e-5f, 9e-5f}) {
+        Verdict v = c.closest(down(1.0f + dx, 0.5f), {1.0f, 0}, {INFINITY, -1});
+        EXPECT_EQ(v.cls, HitClass::Wrong) << dx << " " << reasonNames(v.reasons);
+    }
+    // Within the edge tolerance it stays an edge case.
+    Verdict v = c.closest(down(1.0f + 1e-5f, 0.5f), {1.0f, 0}, {INFINITY, -1});
+    EXPECT_EQ(v.cls, HitClass::Ambiguous);
+    EXPECT_TRUE(v.reasons & kEdgeOrVertex) << reasonNames(v.reasons);
 }
 
 TEST_F(HitCheck, OursRightReferenceOffIsAmbiguous) {
@@ -107,6 +178,47 @@ TEST_F(HitCheck, OcclusionRecheck) {
     v = c.recheckOcclusion(ends, false);
     EXPECT_EQ(v.cls, HitClass::Ambiguous);
     EXPECT_TRUE(v.reasons & kRangeEnd) << reasonNames(v.reasons);
+}
+
+// The same policy through the full per-ray classification (validateRays): counts, reasons and
+// the maximum |dt|, not just the first step.
+TEST_F(HitCheck, RaySetClassifiesTiesWrongPrimitivesAndMalformedHits) {
+    struct Case {
+        Ray ray;
+        Hit ours, reference;
+    };
+    const std::vector<Case> cases = {
+        {down(0.5f, 0.5f), {1.0f, 1}, {1.0f, 0}},  // through the shared diagonal: a tie
+        {down(0.7f, 0.2f), {1.0f, 1}, {1.0f, 0}},  // the wrong triangle at the right t: wrong
+        {down(0.7f, 0.2f), {NAN, 0}, {1.0f, 0}},   // a NaN distance: wrong, invalid_hit
+        {down(0.3f, 0.6f), {1.0f, 1}, {1.0f, 1}},  // the same answer: agree
+    };
+    ValidationRays rays;
+    std::vector<float> tOurs, tRef;
+    std::vector<int32_t> pOurs, pRef;
+    for (const Case& k : cases) {
+        const Ray& r = k.ray;
+        rays.rays.insert(rays.rays.end(),
+                         {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax});
+        rays.kind.push_back(RayKind::Around);
+        tOurs.push_back(k.ours.t);
+        pOurs.push_back(k.ours.prim);
+        tRef.push_back(k.reference.t);
+        pRef.push_back(k.reference.prim);
+    }
+    RayValidation v = validateRays(c, rays, tOurs, pOurs, tRef, pRef);
+    EXPECT_EQ(v.all.compared, 4u);
+    EXPECT_EQ(v.all.ties, 1u);
+    EXPECT_EQ(v.all.agree, 1u);
+    EXPECT_EQ(v.all.wrong, 2u);
+    EXPECT_EQ(v.all.ambiguous, 0u);
+    EXPECT_EQ(v.all.reasons[8], 1u) << reasonName(8);  // invalid_hit
+    EXPECT_STREQ(reasonName(8), "invalid_hit");
+    EXPECT_EQ(v.all.maxRelativeDt, INFINITY) << "the NaN must show in max_relative_dt";
+    EXPECT_FALSE(v.passes(policy.maxAmbiguousRate));
+    ASSERT_GE(v.worst.size(), 2u);
+    EXPECT_EQ(v.worst[0].cls, HitClass::Wrong);
+    EXPECT_EQ(v.worst[1].cls, HitClass::Wrong);
 }
 
 TEST(HitCheckSpheres, TangentRayIsAmbiguousCentralMissIsWrong) {

@@ -138,6 +138,50 @@ TEST(Replication, ExtraEntryIsACountedFalsePositiveWithItsGap) {
     EXPECT_NEAR(r.falsePositiveList[0].gap, gap / double(std::max({e.x, e.y, e.z})), 1e-12);
 }
 
+// The check diagnoses broken trees, so a broken range must be reported, not read through.
+TEST(Replication, BrokenNodeRangesAreNamedStructuralErrors) {
+    Scene scene = loadScene(meshPath("cube_binary.ply"));
+    const Octree good = buildOctree(scene, BuildParams{1, 1});  // the root and 8 leaves
+    ASSERT_EQ(good.nodes.size(), 9u);
+    uint32_t leaf = 1;
+    while (leaf < 9 && good.nodes[leaf].primCount == 0) ++leaf;
+    ASSERT_LT(leaf, 9u);
+    auto named = [](const ReplicationReport& r, uint32_t node) {
+        return r.structuralErrors.size() == 1 &&
+               r.structuralErrors[0].rfind("node " + std::to_string(node) + " ", 0) == 0;
+    };
+
+    Octree tree = good;  // a leaf list past the end of the index array
+    tree.nodes[leaf].primOffset = uint32_t(tree.primIndices.size()) + 1000;
+    ReplicationReport r = checkReplication(scene, tree);
+    EXPECT_FALSE(r.passes());
+    EXPECT_EQ(r.rangeErrors, 1u);
+    EXPECT_TRUE(named(r, leaf)) << (r.structuralErrors.empty() ? "" : r.structuralErrors[0]);
+    EXPECT_GT(r.falseNegatives, 0u) << "the leaf's triangles are listed nowhere else";
+
+    tree = good;  // offset + count wraps around in 32 bits
+    tree.nodes[leaf].primOffset = 0xfffffff0u;
+    tree.nodes[leaf].primCount = 0x20u;
+    r = checkReplication(scene, tree);
+    EXPECT_EQ(r.rangeErrors, 1u);
+    EXPECT_TRUE(named(r, leaf));
+
+    tree = good;  // the root's children past the end of the node array
+    tree.firstChild[0] = uint32_t(tree.nodes.size()) - 3;
+    r = checkReplication(scene, tree);
+    EXPECT_FALSE(r.passes());
+    EXPECT_EQ(r.rangeErrors, 1u);
+    EXPECT_TRUE(named(r, 0)) << (r.structuralErrors.empty() ? "" : r.structuralErrors[0]);
+
+    tree = good;  // the root as its own child: a walk that would never end
+    tree.firstChild[0] = 0;
+    r = checkReplication(scene, tree);
+    EXPECT_EQ(r.rangeErrors, 1u);
+    EXPECT_TRUE(named(r, 0));
+
+    EXPECT_TRUE(checkReplication(scene, good).passes());
+}
+
 TEST(Replication, RejectsATreeOfAnotherScene) {
     Scene a = loadScene(meshPath("cube_binary.ply"));
     Scene b = loadScene(meshPath("teapot.obj"));

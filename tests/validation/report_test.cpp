@@ -20,6 +20,8 @@ TEST(Report, JsonHasThePlainFields) {
     EXPECT_TRUE(j["pass"].get<bool>());
     EXPECT_EQ(j["replication"]["false_negatives"], 0);
     EXPECT_EQ(j["replication"]["octree_faces"], rep.replication->octreeFaces);
+    EXPECT_EQ(j["replication"]["range_errors"], 0);
+    EXPECT_TRUE(j["replication"]["structural_errors"].empty());
     EXPECT_EQ(j["runs"][0]["layout"], "linear");
     EXPECT_EQ(j["runs"][0]["primary"]["compared"], 256);
     EXPECT_EQ(j["runs"][0]["rays"]["compared"], 300);
