@@ -757,6 +757,8 @@ private:
                     skip = e.what();  // the layout's memory budget
                 } catch (const std::bad_alloc&) {
                     skip = std::string("out of memory allocating the ") + lname + " layout";
+                } catch (const std::exception& e) {
+                    error = std::string("converting to ") + lname + ": " + e.what();  // a row
                 }
             }
         } else {

@@ -168,8 +168,10 @@ def slope_lines(run, backend, layout, claim_factor, per, label):
         shown.add(key)
         factor = per ** slope
         close = abs(factor - claim_factor) / claim_factor <= 0.3
-        lo_n = min(n for n, _ in pts)
-        hi_n = max(n for n, _ in pts if where.startswith("all") or n <= 64000)
+        # The sizes the fit used: all of them, or those inside the paper's 1k..64k.
+        used = [n for n, t in pts if t and t > 0
+                and (where.startswith("all") or 1000 <= n <= 64000)]
+        lo_n, hi_n = min(used), max(used)
         out.append(
             "- %s, %s (%d sizes, N = %s..%s): time ∝ N^**%.2f**, i.e. ×**%.2f** per %d× data "
             "(claim: ×%g) → the claim **%s**." %

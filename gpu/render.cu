@@ -173,7 +173,9 @@ double renderCuda(const FrameParams& p, const BuiltScene& b, Film& film, CudaTim
     dfilm.download(film);
     tm.downloadSeconds = secondsSince(t0);
     std::sort(times.begin(), times.end());
-    tm.kernelSeconds = times[times.size() / 2];
+    // Median as octrace bench computes it for the CPU: the mean of the middle two when even.
+    const size_t n = times.size();
+    tm.kernelSeconds = n % 2 ? times[n / 2] : 0.5 * (times[n / 2 - 1] + times[n / 2]);
     tm.minKernelSeconds = times.front();
     tm.maxKernelSeconds = times.back();
     if (timing) *timing = tm;
