@@ -1,6 +1,7 @@
 #include "apps/cli.h"
 
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <sstream>
 
@@ -51,6 +52,18 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
                    "Largest hash octree (m * B slots) to allocate, MiB")
         ->capture_default_str()
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+}
+
+void parseImageSize(const std::string& text, int& w, int& h) {
+    unsigned long long a = 0, b = 0;
+    char x = 0, extra = 0;
+    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
+        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
+        text.find('-') != std::string::npos)
+        throw FrameError("--size '" + text + "' must be WxH with 1 <= W, H <= " +
+                         std::to_string(kMaxImageSide) + " (e.g. 512x512)");
+    w = int(a);
+    h = int(b);
 }
 
 Vec3 parseVec3(const std::string& option, const std::string& text) {

@@ -36,6 +36,8 @@ void addBackendOptions(CLI::App& cmd, std::string& accel, std::string& backend, 
 // Applies --threads (0: leave OpenMP's default, i.e. OMP_NUM_THREADS or all cores).
 void setCpuThreadsFromOption(int threads);
 
+// Parses --size "WxH" (1 <= W, H <= kMaxImageSide); throws FrameError naming the option.
+void parseImageSize(const std::string& text, int& w, int& h);
 // Parses "x,y,z" into a Vec3; throws CLI::ValidationError naming the option on bad input.
 Vec3 parseVec3(const std::string& option, const std::string& text);
 

@@ -127,18 +127,6 @@ uint32_t parseCount(const std::string& text) {
     return uint32_t(n);
 }
 
-void parseSize(const std::string& text, int& w, int& h) {
-    unsigned long long a = 0, b = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
-        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
-        text.find('-') != std::string::npos)
-        throw CLI::ValidationError("--size", "'" + text + "' must be WxH with 1 <= W, H <= " +
-                                                 std::to_string(kMaxImageSide));
-    w = int(a);
-    h = int(b);
-}
-
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
@@ -517,7 +505,7 @@ public:
           config_(std::move(config)),
           progress_(scenes_.size() * ((embree_ ? 1 : 0) + layouts_.size() * ours_.size()),
                     o.progress) {
-        parseSize(o.size, cam_.width, cam_.height);
+        parseImageSize(o.size, cam_.width, cam_.height);
     }
 
     // Returns the number of cases that failed (not skipped).
@@ -929,7 +917,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
         if (!cmd->count("--max-seconds")) o.maxSeconds = 20.0;
     }
     int w = 0, h = 0;
-    parseSize(o.size, w, h);
+    parseImageSize(o.size, w, h);
     setCpuThreads(o.threads);
 
     // Backends: cpu and cuda run our layouts; embree runs once per scene.

@@ -25,18 +25,6 @@ struct RenderOptions {
     bool compareEmbree = false;
 };
 
-void parseSize(const std::string& text, int& w, int& h) {
-    unsigned long long a = 0, b = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
-        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
-        text.find('-') != std::string::npos)
-        throw FrameError("--size '" + text + "' must be WxH with 1 <= W, H <= " +
-                         std::to_string(kMaxImageSide) + " (e.g. 512x512)");
-    w = int(a);
-    h = int(b);
-}
-
 std::optional<Vec3> optionalVec3(const char* option, const std::string& text) {
     if (text.empty()) return std::nullopt;
     return parseVec3(option, text);
@@ -44,7 +32,7 @@ std::optional<Vec3> optionalVec3(const char* option, const std::string& text) {
 
 CameraOptions cameraOptions(const RenderOptions& o) {
     CameraOptions c;
-    parseSize(o.size, c.width, c.height);
+    parseImageSize(o.size, c.width, c.height);
     c.eye = optionalVec3("--eye", o.eye);
     c.target = optionalVec3("--target", o.target);
     c.up = optionalVec3("--up", o.up);

@@ -78,18 +78,6 @@ std::vector<Backend> parseBackends(const std::string& text) {
     return out;
 }
 
-void parseSize(const std::string& text, int& w, int& h) {
-    unsigned long long a = 0, b = 0;
-    char x = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%llu%c%llu%c", &a, &x, &b, &extra) != 3 || x != 'x' || a < 1 ||
-        b < 1 || a > uint64_t(kMaxImageSide) || b > uint64_t(kMaxImageSide) ||
-        text.find('-') != std::string::npos)
-        throw FrameError("--size '" + text + "' must be WxH with 1 <= W, H <= " +
-                         std::to_string(kMaxImageSide) + " (e.g. 256x256)");
-    w = int(a);
-    h = int(b);
-}
-
 // Where the human summary goes: stdout, unless the JSON report does (`--json -`), which must
 // then be the only thing on stdout so that it can be piped into a JSON reader.
 std::FILE* summaryStream(const std::string& jsonPath) { return jsonPath == "-" ? stderr : stdout; }
@@ -139,7 +127,7 @@ void runValidate(const ValidateCliOptions& o) {
     std::vector<Backend> backends = parseBackends(o.backend);
     setCpuThreadsFromOption(o.threads);
     ValidateOptions vo;
-    parseSize(o.size, vo.camera.width, vo.camera.height);
+    parseImageSize(o.size, vo.camera.width, vo.camera.height);
     vo.rays = o.rays;
     vo.seed = o.seed;
     vo.policy = o.policy;

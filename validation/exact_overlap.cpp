@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/geometry/tri_box.h"
+#include "core/octree/octree.h"
 
 namespace oct {
 namespace {
@@ -22,13 +23,7 @@ BoxD boxD(const Aabb& b) {
 }
 
 double sphereBoxDistance(const Sphere& s, const Aabb& box) {
-    double d2 = 0.0;
-    for (int a = 0; a < 3; ++a) {
-        double c = s.center[a], lo = box.lo[a], hi = box.hi[a];
-        double e = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
-        d2 += e * e;
-    }
-    return std::sqrt(d2);
+    return std::sqrt(sphereCentreBoxDistanceSq(s, box));
 }
 
 }  // namespace
@@ -39,12 +34,7 @@ bool doubleTriangleBoxOverlap(const Triangle& tri, const Aabb& box) {
 }
 
 bool doubleSphereBoxOverlap(const Sphere& s, const Aabb& box) {
-    double d2 = 0.0;
-    for (int a = 0; a < 3; ++a) {
-        double c = s.center[a], lo = box.lo[a], hi = box.hi[a];
-        double e = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
-        d2 += e * e;
-    }
+    double d2 = sphereCentreBoxDistanceSq(s, box);
     double r = double(s.radius);
     return d2 <= r * r;
 }

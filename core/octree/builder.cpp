@@ -73,14 +73,18 @@ bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
     return triBoxOverlap(c, h, toV3d(tri.v0), toV3d(tri.v1), toV3d(tri.v2));
 }
 
-// Arvo's test (Graphics Gems, 1990): the squared distance from the centre to the box.
-bool builderSphereOverlaps(const Sphere& s, const Aabb& box) {
+double sphereCentreBoxDistanceSq(const Sphere& s, const Aabb& box) {
     double d2 = 0.0;
     for (int a = 0; a < 3; ++a) {
         double c = s.center[a], lo = box.lo[a], hi = box.hi[a];
         double e = c < lo ? lo - c : (c > hi ? c - hi : 0.0);
         d2 += e * e;
     }
+    return d2;
+}
+
+bool builderSphereOverlaps(const Sphere& s, const Aabb& box) {
+    double d2 = sphereCentreBoxDistanceSq(s, box);
     double r = double(s.radius) * (1.0 + kOverlapPad);
     return d2 <= r * r;
 }

@@ -63,5 +63,8 @@ Octree buildOctree(const Scene& scene, const BuildParams& params);
 // Overlap tests exactly as the builder applies them, exposed for tests and validation.
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box);
 bool builderSphereOverlaps(const Sphere& s, const Aabb& box);
+// Arvo's test (Graphics Gems, 1990): squared distance, in double, from a sphere's centre to the
+// nearest point of the box (0 inside it). Exact up to the final roundings for float inputs.
+double sphereCentreBoxDistanceSq(const Sphere& s, const Aabb& box);
 
 }  // namespace oct
