@@ -381,13 +381,18 @@ def machine_lines(run):
     if any(loads):
         lines.append("- Load average (1, 5, 15 min) at the start: %s; at the end: %s" %
                      tuple(", ".join("%.2f" % x for x in l) if l else "-" for l in loads))
+        # The load at the end includes the sweep's own threads, busy for its last minute; only
+        # what is beyond them is other work. The load at the start lags: it still holds the
+        # minute before the sweep (a build just finished, say), so it is shown, not judged.
         cores = m.get("logical_cores") or 1
-        busiest = max(l[0] for l in loads if l)
-        if busiest > 0.25 * cores:
+        own = m.get("omp_threads") or cores
+        end = loads[1]
+        other = end[0] - own if end else None
+        if other is not None and other > 0.25 * cores:
             lines.append("- **Warning:** the machine was busy with other work during the run "
-                         "(1-minute load %.2f on %d cores); timings, small frames above all, "
-                         "are noisy. Rerun on an idle machine for numbers to quote." %
-                         (busiest, cores))
+                         "(1-minute load %.2f at the end, %d of it the sweep's own threads, on "
+                         "%d cores); timings, small frames above all, are noisy. Rerun on an "
+                         "idle machine for numbers to quote." % (end[0], own, cores))
     if m.get("cuda_device"):
         lines.append("- GPU: **%s**" % m["cuda_device"])
     size = c.get("size", ["?", "?"])
