@@ -239,7 +239,8 @@ void BM_LinearChild(benchmark::State& state) {
     // with a compare, as in BM_HashLookup.
     size_t i = 0, k = 0;
     for (auto _ : state) {
-        const OctreeNode* c = v.child(v.nodes[f.parents[i]], int(k++ & 7));
+        const OctreeNode* at = v.nodes + f.parents[i];
+        const OctreeNode* c = v.child(at, at->key, int(k++ & 7));
         if (++i == f.parents.size()) i = 0;
         uint8_t type = c->type;
         benchmark::DoNotOptimize(type);

@@ -46,8 +46,8 @@ OCT_HD inline PreparedRay prepareRay(const Ray& r) {
 OCT_HD inline bool intersectPrimitive(const PrimitivesView& p, uint32_t i, const PreparedRay& q,
                                       float tmax, float& t) {
     if (p.kind == PrimKind::Triangles)
-        return intersectTriangle(q.sheared, p.tris[i], q.ray.tmin, tmax, t);
-    return intersectSphere(q.ray.org, q.ray.dir, p.spheres[i], q.ray.tmin, tmax, t);
+        return intersectTriangle(q.sheared, loadReadOnly(p.tris + i), q.ray.tmin, tmax, t);
+    return intersectSphere(q.ray.org, q.ray.dir, loadReadOnly(p.spheres + i), q.ray.tmin, tmax, t);
 }
 
 // Closest-hit update with the deterministic tie rule (equal t: lower primitive id wins).
@@ -123,18 +123,19 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
     const OctreeNode* root = v.root();
     float t0, t1;
     ++cost.nodesVisited;
-    if (root == nullptr || !intersectBox(q.slabs, root->box, r.tmin, r.tmax, t0, t1))
+    if (root == nullptr || !intersectBox(q.slabs, loadReadOnly(root).box, r.tmin, r.tmax, t0, t1))
         return missHit();
     stack[top++] = {root, t0};
 
     while (top > 0) {
         StackEntry e = stack[--top];
         if (e.tEnter > best.t) continue;  // a nearer hit is already known
-        const OctreeNode& n = *e.node;
+        const OctreeNode& n = loadReadOnly(e.node);
         NodeType type = n.nodeType();
         if (type == NodeType::Leaf) {
             for (uint32_t k = 0; k < n.primCount; ++k) {
-                considerPrimitive(v.prims, v.primIndices[n.primOffset + k], q, best, cost);
+                const uint32_t prim = loadReadOnly(v.primIndices + n.primOffset + k);
+                considerPrimitive(v.prims, prim, q, best, cost);
                 if (kAnyHit && best.prim >= 0) return best;
             }
             continue;
@@ -143,13 +144,14 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         StackEntry kids[8];
         int count = 0;
         for (int i = 0; i < 8; ++i) {
-            const OctreeNode* c = v.child(n, i);
+            const OctreeNode* c = v.child(e.node, n.key, i);
             // Empty leaves and absent nodes hold nothing to hit.
             if (c == nullptr) continue;
-            NodeType ct = c->nodeType();
+            const OctreeNode& cn = loadReadOnly(c);
+            NodeType ct = cn.nodeType();
             if (ct != NodeType::Leaf && ct != NodeType::Internal) continue;
             ++cost.nodesVisited;
-            if (intersectBox(q.slabs, c->box, r.tmin, best.t, t0, t1)) kids[count++] = {c, t0};
+            if (intersectBox(q.slabs, cn.box, r.tmin, best.t, t0, t1)) kids[count++] = {c, t0};
         }
         sortFarToNear(kids, count);
         for (int i = 0; i < count; ++i) stack[top++] = kids[i];

@@ -34,9 +34,10 @@ struct LinearOctreeView {
     PrimitivesView prims;
 
     OCT_HD const OctreeNode* root() const { return nodes; }
+    // The child of the internal node stored at `at` (its Morton key is not needed here).
     // Children of an internal node always exist in the complete array (it has depth+1 levels).
-    OCT_HD const OctreeNode* child(const OctreeNode& n, int octant) const {
-        uint64_t p = static_cast<uint64_t>(&n - nodes);
+    OCT_HD const OctreeNode* child(const OctreeNode* at, uint64_t /*key*/, int octant) const {
+        uint64_t p = static_cast<uint64_t>(at - nodes);
         return nodes + (8 * p + 1 + octant);
     }
 };
@@ -53,14 +54,16 @@ struct HashOctreeView {
     OCT_HD const OctreeNode* find(uint64_t key) const {
         const OctreeNode* bucket = slots + (key % bucketCount) * bucketSlots;
         for (uint32_t s = 0; s < bucketSlots; ++s) {
-            if (bucket[s].key == key) return bucket + s;
-            if (bucket[s].key == 0) return nullptr;  // slots fill front to back
+            const uint64_t k = loadReadOnly(&bucket[s].key);
+            if (k == key) return bucket + s;
+            if (k == 0) return nullptr;  // slots fill front to back
         }
         return nullptr;
     }
     OCT_HD const OctreeNode* root() const { return find(kRootKey); }
-    OCT_HD const OctreeNode* child(const OctreeNode& n, int octant) const {
-        return find(childKey(n.key, octant));
+    // The child of the internal node with Morton key `key` (its address is not needed here).
+    OCT_HD const OctreeNode* child(const OctreeNode* /*at*/, uint64_t key, int octant) const {
+        return find(childKey(key, octant));
     }
 };
 
