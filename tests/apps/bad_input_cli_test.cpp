@@ -23,45 +23,19 @@
 #include <thread>
 #include <vector>
 
+#include "tests/bad_manifest.h"
+
 extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kBadDir = std::string(OCT_SOURCE_DIR) + "/tests/data/bad";
 const std::string kOctrace = std::string(OCT_BINARY_DIR) + "/octrace";
 
-struct BadFile {
-    std::string file;
-    bool expectError = true;
-    std::string errorText;
-    uint64_t totalDropped = 0;
-};
-
-std::vector<BadFile> readManifest() {
-    std::vector<BadFile> entries;
-    std::ifstream in(kBadDir + "/manifest.txt");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        const size_t space = line.find(' ');
-        BadFile e;
-        e.file = line.substr(0, space);
-        const std::string expect = space == std::string::npos ? "" : line.substr(space + 1);
-        e.expectError = expect.rfind("ok:", 0) != 0;
-        if (e.expectError) {
-            e.errorText = expect.substr(expect.find(':') + 1);
-        } else {
-            std::istringstream counts(expect.substr(3));
-            std::string item;
-            while (std::getline(counts, item, ','))
-                e.totalDropped += std::stoull(item.substr(item.find('=') + 1));
-        }
-        entries.push_back(e);
-    }
-    return entries;
-}
+using octtest::BadFile;
+using octtest::kBadDir;
+const auto readManifest = octtest::readBadManifest;
 
 struct RunResult {
     bool timedOut = false;
@@ -164,7 +138,7 @@ void checkCorpusFile(const BadFile& e, const fs::path& dir) {
     ASSERT_EQ(r.signal, 0) << r.err;
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "");
-    EXPECT_NE(r.out.find("dropped      " + std::to_string(e.totalDropped) + " ("),
+    EXPECT_NE(r.out.find("dropped      " + std::to_string(e.totalDropped()) + " ("),
               std::string::npos)
         << r.out;
 }

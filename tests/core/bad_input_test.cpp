@@ -23,51 +23,16 @@
 
 #include "core/octree/octree.h"
 #include "core/scene/load_scene.h"
+#include "tests/bad_manifest.h"
 
 namespace oct {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kBadDir = std::string(OCT_SOURCE_DIR) + "/tests/data/bad";
-
-// One manifest line: "FILE error:TEXT" or "FILE ok:key=n,key=n".
-struct BadFile {
-    std::string file;
-    bool expectError = false;
-    std::string errorText;
-    std::map<std::string, uint64_t>
-        drops;  // invalid_index, non_finite, degenerate, too_few_vertices
-};
-
-std::vector<BadFile> readManifest() {
-    std::vector<BadFile> entries;
-    std::ifstream in(kBadDir + "/manifest.txt");
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        const size_t space = line.find(' ');
-        BadFile e;
-        e.file = line.substr(0, space);
-        const std::string expect = space == std::string::npos ? "" : line.substr(space + 1);
-        if (expect.rfind("error:", 0) == 0) {
-            e.expectError = true;
-            e.errorText = expect.substr(6);
-        } else if (expect.rfind("ok:", 0) == 0) {
-            std::istringstream counts(expect.substr(3));
-            std::string item;
-            while (std::getline(counts, item, ',')) {
-                const size_t eq = item.find('=');
-                e.drops[item.substr(0, eq)] = std::stoull(item.substr(eq + 1));
-            }
-        } else {
-            e.errorText = "<bad manifest line: " + line + ">";
-            e.expectError = true;
-        }
-        entries.push_back(e);
-    }
-    return entries;
-}
+using octtest::BadFile;
+using octtest::kBadDir;
+const auto readManifest = octtest::readBadManifest;
 
 TEST(BadCorpus, ManifestListsEveryFileAndEveryFileExists) {
     const std::vector<BadFile> entries = readManifest();
