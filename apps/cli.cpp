@@ -21,9 +21,8 @@ LayoutOptions SceneOptions::layoutOptions() const {
     LayoutOptions o;
     o.build.maxDepth = maxDepth;
     o.build.maxPrims = maxPrims;
-    o.hash.bucketSlots = hashSlots;
-    o.hash.budgetBytes = hashBudgetMiB << 20;
-    o.linearBudget = linearBudgetMiB << 20;
+    o.hash = limits.hashParams();
+    o.linearBudget = limits.linearBudgetBytes();
     return o;
 }
 
@@ -42,14 +41,20 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
                    "Sphere radius for point clouds (default: half the median nearest-neighbour "
                    "distance)")
         ->check(CLI::PositiveNumber);
+    addLayoutLimitOptions(cmd, o.limits, "refused");
+}
+
+void addLayoutLimitOptions(CLI::App& cmd, LayoutLimitOptions& o, const std::string& overBudget) {
     cmd.add_option("--hash-slots", o.hashSlots, "Slots per hash bucket (B)")
         ->capture_default_str()
         ->check(CLI::Range(1u, 64u));
-    cmd.add_option("--linear-budget", o.linearBudgetMiB, "Largest linear octree to allocate, MiB")
+    cmd.add_option("--linear-budget", o.linearBudgetMiB,
+                   "Largest linear octree to allocate, MiB (larger: " + overBudget + ")")
         ->capture_default_str()
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
-    cmd.add_option("--hash-budget", o.hashBudgetMiB,
-                   "Largest hash octree (m * B slots) to allocate, MiB")
+    cmd.add_option(
+           "--hash-budget", o.hashBudgetMiB,
+           "Largest hash octree (m * B slots) to allocate, MiB (larger: " + overBudget + ")")
         ->capture_default_str()
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
 }

@@ -16,15 +16,26 @@ namespace oct {
 // Runs the command line; returns the process exit status. Never throws.
 int runCli(int argc, char** argv);
 
+// --hash-slots, --linear-budget, --hash-budget: the layouts' shape and memory limits, the same
+// for every command that builds layouts (SceneOptions below, and `octrace bench`).
+struct LayoutLimitOptions {
+    uint32_t hashSlots = HashParams{}.bucketSlots;
+    uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
+    uint64_t hashBudgetMiB = kDefaultHashBudget >> 20;
+
+    uint64_t linearBudgetBytes() const { return linearBudgetMiB << 20; }
+    HashParams hashParams() const { return {hashSlots, hashBudgetMiB << 20}; }
+};
+// Registers the three options; `overBudget` ends the budgets' help (what happens past one).
+void addLayoutLimitOptions(CLI::App& cmd, LayoutLimitOptions& o, const std::string& overBudget);
+
 // Options every subcommand that builds an octree shares (`octrace info` documents them).
 struct SceneOptions {
     std::string path;
     int maxDepth = BuildParams{}.maxDepth;
     uint32_t maxPrims = BuildParams{}.maxPrims;
     float radius = 0.0f;
-    uint32_t hashSlots = HashParams{}.bucketSlots;
-    uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
-    uint64_t hashBudgetMiB = kDefaultHashBudget >> 20;
+    LayoutLimitOptions limits;
 
     LoadOptions loadOptions() const;
     LayoutOptions layoutOptions() const;

@@ -87,9 +87,7 @@ struct BenchOptions {
     int meshMaxDepth = BuildParams{}.maxDepth;
     uint32_t meshMaxPrims = BuildParams{}.maxPrims;
     uint32_t cloudMaxPrims = 1;
-    uint32_t hashSlots = HashParams{}.bucketSlots;
-    uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
-    uint64_t hashBudgetMiB = kDefaultHashBudget >> 20;
+    LayoutLimitOptions limits;
     bool progress = true;
 };
 
@@ -341,20 +339,6 @@ void writeResults(const fs::path& dir, const json& machine, const json& config,
     writeAtomic(dir / "bench.csv", csv);
 }
 
-struct Stats {
-    double median = 0, min = 0, max = 0;
-};
-
-Stats stats(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    Stats s;
-    s.min = v.front();
-    s.max = v.back();
-    s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-    return s;
-}
-
 void fillFilmCounts(const Film& film, bool withCost, Row& r) {
     uint64_t shadow = 0;
     double nodes = 0, tested = 0;
@@ -373,6 +357,20 @@ void fillFilmCounts(const Film& film, bool withCost, Row& r) {
         r.nodesPerRay = nodes / rays;
         r.primsPerRay = tested / rays;
     }
+}
+
+struct Stats {
+    double median = 0, min = 0, max = 0;
+};
+
+Stats stats(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    size_t n = v.size();
+    Stats s;
+    s.min = v.front();
+    s.max = v.back();
+    s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    return s;
 }
 
 void fillTiming(const std::vector<double>& frames, Row& r) {
@@ -732,10 +730,9 @@ private:
                 auto t0 = std::chrono::steady_clock::now();
                 try {
                     if (layout == Layout::Linear)
-                        built.linear = buildLinear(*tree, o_.linearBudgetMiB << 20);
+                        built.linear = buildLinear(*tree, o_.limits.linearBudgetBytes());
                     else
-                        built.hash =
-                            buildHash(*tree, HashParams{o_.hashSlots, o_.hashBudgetMiB << 20});
+                        built.hash = buildHash(*tree, o_.limits.hashParams());
                     base.convertSeconds =
                         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
                             .count();
@@ -1030,9 +1027,9 @@ void runBench(BenchOptions o, CLI::App* cmd) {
                    {"seed", o.seed},
                    {"cloud_octree", {{"max_depth", "grid depth"}, {"max_prims", o.cloudMaxPrims}}},
                    {"mesh_octree", {{"max_depth", o.meshMaxDepth}, {"max_prims", o.meshMaxPrims}}},
-                   {"hash_slots", o.hashSlots},
-                   {"linear_budget_bytes", o.linearBudgetMiB << 20},
-                   {"hash_budget_bytes", o.hashBudgetMiB << 20},
+                   {"hash_slots", o.limits.hashSlots},
+                   {"linear_budget_bytes", o.limits.linearBudgetBytes()},
+                   {"hash_budget_bytes", o.limits.hashParams().budgetBytes},
                    {"notes", meshNotes}};
 
     std::printf(
@@ -1099,17 +1096,7 @@ void registerBench(CLI::App& app) {
                     "Grid cloud octrees (split down to the grid depth): split above this many")
         ->capture_default_str()
         ->check(CLI::Range(1u, 1u << 30));
-    cmd->add_option("--hash-slots", o->hashSlots, "Slots per hash bucket (B)")
-        ->capture_default_str()
-        ->check(CLI::Range(1u, 64u));
-    cmd->add_option("--linear-budget", o->linearBudgetMiB,
-                    "Largest linear octree to allocate, MiB (larger: skipped)")
-        ->capture_default_str()
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
-    cmd->add_option("--hash-budget", o->hashBudgetMiB,
-                    "Largest hash octree (m * B slots) to allocate, MiB (larger: skipped)")
-        ->capture_default_str()
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+    addLayoutLimitOptions(*cmd, o->limits, "skipped");
     cmd->add_flag("!--no-progress", o->progress, "No progress lines on stderr");
     cmd->callback([o, cmd] { runBench(*o, cmd); });
 }
