@@ -33,6 +33,7 @@
 #include "apps/cli.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
+#include "core/time_spread.h"
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
 #ifdef OCT_HAVE_CUDA
@@ -359,22 +360,8 @@ void fillFilmCounts(const Film& film, bool withCost, Row& r) {
     }
 }
 
-struct Stats {
-    double median = 0, min = 0, max = 0;
-};
-
-Stats stats(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    size_t n = v.size();
-    Stats s;
-    s.min = v.front();
-    s.max = v.back();
-    s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-    return s;
-}
-
 void fillTiming(const std::vector<double>& frames, Row& r) {
-    Stats s = stats(frames);
+    const TimeSpread s = timeSpread(frames);
     r.frameMedian = s.median;
     r.frameMin = s.min;
     r.frameMax = s.max;

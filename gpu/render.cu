@@ -4,6 +4,7 @@
 #include <chrono>
 #include <vector>
 
+#include "core/time_spread.h"
 #include "gpu/cuda_backend.h"
 #include "gpu/device_buffer.h"
 
@@ -172,12 +173,10 @@ double renderCuda(const FrameParams& p, const BuiltScene& b, Film& film, CudaTim
     t0 = std::chrono::steady_clock::now();
     dfilm.download(film);
     tm.downloadSeconds = secondsSince(t0);
-    std::sort(times.begin(), times.end());
-    // Median as octrace bench computes it for the CPU: the mean of the middle two when even.
-    const size_t n = times.size();
-    tm.kernelSeconds = n % 2 ? times[n / 2] : 0.5 * (times[n / 2 - 1] + times[n / 2]);
-    tm.minKernelSeconds = times.front();
-    tm.maxKernelSeconds = times.back();
+    const TimeSpread spread = timeSpread(times);  // the rule octrace bench uses for the CPU
+    tm.kernelSeconds = spread.median;
+    tm.minKernelSeconds = spread.min;
+    tm.maxKernelSeconds = spread.max;
     if (timing) *timing = tm;
     return tm.kernelSeconds;
 }
