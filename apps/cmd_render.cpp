@@ -74,8 +74,7 @@ void checkOutputs(const RenderOptions& o) {
 void printEmbreeAgreement(const FrameParams& frame, const BuiltScene& bs, const Film& film) {
     Film truth;
     renderWith(Backend::Embree, frame, bs, truth);
-    double extent = length(bs.scene->bounds().extent());
-    FilmComparison c = compareFilms(film, truth, extent);
+    FilmComparison c = compareFilms(film, truth, sceneExtent(*bs.scene));
     std::printf(
         "embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "
         "%llu hit/miss and %llu distance mismatches; %llu shadow mismatches; "

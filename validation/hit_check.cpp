@@ -18,13 +18,6 @@ const char* hitClassName(HitClass c) {
     }
 }
 
-double sceneExtent(const Scene& scene) {
-    Aabb b = scene.bounds();
-    Vec3 e = b.extent();
-    double d = std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z);
-    return d > 0.0 && std::isfinite(d) ? d : 1.0;
-}
-
 HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
     : scene_(&scene),
       policy_(policy),

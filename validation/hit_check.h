@@ -97,7 +97,4 @@ private:
     DoubleTracer truth_;
 };
 
-// Scene extent used by every tolerance: the bounding-box diagonal (1 for a point-sized scene).
-double sceneExtent(const Scene& scene);
-
 }  // namespace oct

@@ -1,5 +1,7 @@
 #include "core/scene/scene.h"
 
+#include <cmath>
+
 namespace oct {
 
 Aabb Scene::bounds() const {
@@ -17,6 +19,13 @@ Aabb Scene::bounds() const {
         }
     }
     return box;
+}
+
+double sceneExtent(const Scene& scene) {
+    Aabb b = scene.bounds();
+    Vec3 e = b.extent();
+    double d = std::sqrt(double(e.x) * e.x + double(e.y) * e.y + double(e.z) * e.z);
+    return d > 0.0 && std::isfinite(d) ? d : 1.0;
 }
 
 }  // namespace oct

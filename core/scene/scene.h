@@ -58,6 +58,10 @@ struct Scene {
     Aabb bounds() const;  // tight box around all primitives (spheres include their radius)
 };
 
+// The scene's size for every distance tolerance (render --compare-embree, octrace validate): the
+// diagonal of bounds() in double, 1 for a point-sized or non-finite box so nothing divides by 0.
+double sceneExtent(const Scene& scene);
+
 struct LoadOptions {
     // Sphere radius for point clouds; 0 selects the default rule documented in load_scene.h.
     float radius = 0.0f;
