@@ -1,5 +1,6 @@
 #include "apps/cli.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -82,6 +83,96 @@ Vec3 parseVec3(const std::string& option, const std::string& text) {
 }
 
 void setCpuThreadsFromOption(int threads) { setCpuThreads(threads); }
+
+void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHelp) {
+    // The plural spellings are bench's earlier ones, accepted everywhere.
+    cmd.add_option("--accel,--accels", o.accel, "Acceleration layout: " + layoutNames())
+        ->capture_default_str();
+    cmd.add_option("--backend,--backends", o.backend, backendHelp)->capture_default_str();
+    cmd.add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
+        ->check(CLI::Range(1, 4096));
+}
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> out;
+    std::string item;
+    std::istringstream in(text);
+    while (std::getline(in, item, ',')) {
+        item.erase(0, item.find_first_not_of(" \t"));
+        item.erase(item.find_last_not_of(" \t") + 1);
+        if (!item.empty()) out.push_back(item);
+    }
+    return out;
+}
+
+std::vector<const LayoutDesc*> parseLayoutList(const std::string& text) {
+    std::vector<const LayoutDesc*> out;
+    auto add = [&](const LayoutDesc* l) {
+        if (std::find(out.begin(), out.end(), l) == out.end()) out.push_back(l);
+    };
+    for (const std::string& name : splitList(text)) {
+        if (name == "all")
+            for (const LayoutDesc& l : layouts()) add(&l);
+        else
+            add(&findLayout(name));
+    }
+    if (out.empty())
+        throw CLI::ValidationError("--accel",
+                                   "'" + text + "' names no layout (" + layoutNames() + ", all)");
+    return out;
+}
+
+std::vector<const BackendDesc*> parseBackendList(const std::string& text,
+                                                 std::vector<std::string>& notes) {
+    std::vector<const BackendDesc*> out;
+    for (const std::string& name : splitList(text)) {
+        std::string note;
+        const BackendDesc* b = &resolveBackend(name, note);
+        if (!note.empty()) notes.push_back(note);
+        if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
+    }
+    if (out.empty())
+        throw CLI::ValidationError(
+            "--backend", "'" + text + "' names no backend (" + backendNames() + ", auto)");
+    return out;
+}
+
+const LayoutDesc& parseOneLayout(const std::string& text, const char* command) {
+    std::vector<const LayoutDesc*> l = parseLayoutList(text);
+    if (l.size() != 1)
+        throw CLI::ValidationError("--accel", "'" + text + "': " + command +
+                                                  " uses one layout (validate and bench "
+                                                  "compare several)");
+    return *l[0];
+}
+
+const BackendDesc& parseOneBackend(const std::string& text, const char* command,
+                                   std::string& note) {
+    std::vector<std::string> notes;
+    std::vector<const BackendDesc*> b = parseBackendList(text, notes);
+    if (b.size() != 1)
+        throw CLI::ValidationError("--backend", "'" + text + "': " + command +
+                                                    " uses one backend (validate and bench "
+                                                    "compare several)");
+    note = notes.empty() ? "" : notes[0];
+    return *b[0];
+}
+
+void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what) {
+    cmd.add_option("--json", path, "Write " + what + " as JSON to FILE ('-' or nothing: stdout)")
+        ->expected(0, 1)
+        ->default_str("-");
+}
+
+void writeTextOutput(const std::string& path, const std::string& text) {
+    if (path == "-") {
+        std::cout << text << std::flush;
+        return;
+    }
+    OutputSet out;  // all or nothing, never half a file
+    out.stage(path, text.data(), text.size());
+    out.commit();
+}
 
 int runCli(int argc, char** argv) {
     CLI::App app{

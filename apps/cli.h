@@ -1,5 +1,6 @@
-// The octrace command line: subcommands info, render, trace (and more as they land). Every
-// error reaches the user as one line on stderr and a non-zero exit status.
+// The octrace command line: option parsing and printing only; the work lives in the library
+// folders (core/, backends/, validation/, bench/). Every error reaches the user as one line on
+// stderr and a non-zero exit status. The subcommands are registered in runCli (cli.cpp).
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -8,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/octree/accel.h"
+#include "backends/backend.h"
+#include "core/octree/layout_registry.h"
 #include "core/scene/scene.h"
 
 namespace oct {
@@ -42,10 +44,38 @@ struct SceneOptions {
 };
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o);
-// --accel, --backend, --threads for the commands that trace.
-void addBackendOptions(CLI::App& cmd, std::string& accel, std::string& backend, int& threads);
+
+// --accel, --backend and --threads, the same spelling on every command that traces. Both take
+// comma lists (spaces around items ignored); render and trace draw one layout on one backend
+// and refuse a list of several with one line.
+struct TraceChoice {
+    std::string accel;
+    std::string backend;
+    int threads = 0;
+};
+// The defaults are o's values when called; `backendHelp` says what the command accepts.
+void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHelp);
 // Applies --threads (0: leave OpenMP's default, i.e. OMP_NUM_THREADS or all cores).
 void setCpuThreadsFromOption(int threads);
+
+// Splits a comma list, trimming spaces and tabs around each item and dropping empty ones: the
+// one list parser of the command line.
+std::vector<std::string> splitList(const std::string& text);
+// Layouts named in a --accel list ("all": every layout), without repeats, in the order given.
+// Throws naming the option and the value when one is unknown or the list is empty.
+std::vector<const LayoutDesc*> parseLayoutList(const std::string& text);
+// Backends named in a --backend list (auto resolved), without repeats; `notes` receives what
+// auto chose. Throws for an unknown name or one that cannot run here.
+std::vector<const BackendDesc*> parseBackendList(const std::string& text,
+                                                 std::vector<std::string>& notes);
+// Exactly one layout or backend, for the commands that draw one (render, trace).
+const LayoutDesc& parseOneLayout(const std::string& text, const char* command);
+const BackendDesc& parseOneBackend(const std::string& text, const char* command, std::string& note);
+
+// --json FILE, '-' for stdout; a bare --json (nothing after it) is stdout too.
+void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what);
+// Writes text to `path`, or to stdout for '-'. Throws naming the file when it cannot.
+void writeTextOutput(const std::string& path, const std::string& text);
 
 // Parses --size "WxH" (1 <= W, H <= kMaxImageSide); throws FrameError naming the option.
 void parseImageSize(const std::string& text, int& w, int& h);

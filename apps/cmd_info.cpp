@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
-#include "core/octree/layouts.h"
 #include "core/scene/load_scene.h"
 
 namespace oct {
@@ -13,7 +12,7 @@ namespace {
 
 struct InfoOptions {
     SceneOptions scene;
-    bool json = false;
+    std::string json;  // file, or "-" for stdout; empty: text on stdout
 };
 
 nlohmann::json loadJson(const Scene& s) {
@@ -54,30 +53,33 @@ nlohmann::json treeJson(const Octree& t) {
             {"build_seconds", t.buildSeconds}};
 }
 
-nlohmann::json layoutsJson(const Octree& t, const HashOctree& h, double hashSeconds) {
-    uint64_t indexBytes = t.primIndices.size() * sizeof(uint32_t);
-    return {{"linear",
-             {{"nodes", linearNodeCount(t.depth)},
-              {"node_bytes", linearBytes(t.depth)},
-              {"bytes", linearBytes(t.depth) + indexBytes}}},
-            {"hash",
-             {{"buckets_m", h.bucketCount},
-              {"slots_per_bucket_B", h.bucketSlots},
-              {"max_bucket_occupancy", h.maxOccupancy},
-              {"mean_bucket_occupancy", h.meanOccupancy},
-              {"grow_steps", h.growSteps},
-              {"node_bytes", h.slots.size() * sizeof(OctreeNode)},
-              {"bytes", h.slots.size() * sizeof(OctreeNode) + indexBytes},
-              {"build_seconds", hashSeconds}}},
-            {"leaf_index_bytes", indexBytes},
-            {"node_record_bytes", sizeof(OctreeNode)}};
+// Every layout of the registry over the canonical octree: its facts under its name, and its
+// one-line summary for the text form.
+nlohmann::json layoutsJson(const Octree& t, const LayoutOptions& lo,
+                           std::vector<std::pair<std::string, std::string>>& lines) {
+    nlohmann::json j;
+    for (const LayoutDesc& d : layouts()) {
+        LayoutReport r = d.report(t, lo);
+        nlohmann::json facts = nlohmann::json::object();
+        for (const LayoutFact& f : r.facts) {
+            if (f.integer)
+                facts[f.key] = f.count;
+            else
+                facts[f.key] = f.value;
+        }
+        j[d.name] = facts;
+        lines.emplace_back(d.name, r.summary);
+    }
+    j["leaf_index_bytes"] = t.primIndices.size() * sizeof(uint32_t);
+    j["node_record_bytes"] = sizeof(OctreeNode);
+    return j;
 }
 
-void printHuman(const nlohmann::json& j) {
+void printHuman(const nlohmann::json& j,
+                const std::vector<std::pair<std::string, std::string>>& layoutLines) {
     const auto& s = j["scene"];
     const auto& l = j["load"];
     const auto& t = j["octree"];
-    const auto& lay = j["layouts"];
     std::printf("scene        %s\n", s["name"].get<std::string>().c_str());
     std::printf("primitives   %llu %s (format %s, %llu vertices, %llu faces read)\n",
                 (unsigned long long)s["primitives"], s["kind"].get<std::string>().c_str(),
@@ -109,27 +111,14 @@ void printHuman(const nlohmann::json& j) {
         "octree faces %llu (primitive references in leaves; %.2f per primitive)\n",
         (unsigned long long)t["octree_faces"],
         double(t["octree_faces"].get<uint64_t>()) / double(s["primitives"].get<uint64_t>()));
-    std::printf("linear       %llu nodes, %.2f MiB (incl. leaf index array)\n",
-                (unsigned long long)lay["linear"]["nodes"],
-                lay["linear"]["bytes"].get<double>() / 1048576.0);
-    const auto& h = lay["hash"];
-    std::printf(
-        "hash         m %llu, B %u, max occupancy %u, mean %.2f, %.2f MiB, built in %.3f s\n",
-        (unsigned long long)h["buckets_m"], h["slots_per_bucket_B"].get<unsigned>(),
-        h["max_bucket_occupancy"].get<unsigned>(), h["mean_bucket_occupancy"].get<double>(),
-        h["bytes"].get<double>() / 1048576.0, h["build_seconds"].get<double>());
-    std::printf("exhaustive   %.2f MiB of primitives, no tree\n",
-                j["scene"]["primitive_bytes"].get<double>() / 1048576.0);
+    for (const auto& [name, summary] : layoutLines)
+        std::printf("%-12s %s\n", name.c_str(), summary.c_str());
 }
 
 void runInfo(const InfoOptions& o) {
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     LayoutOptions lo = o.scene.layoutOptions();
     Octree tree = buildOctree(scene, lo.build);
-    auto start = std::chrono::steady_clock::now();
-    HashOctree hash = buildHash(tree, lo.hash);
-    double hashSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     bool tris = scene.kind == PrimKind::Triangles;
     nlohmann::json j;
     j["scene"] = {{"name", scene.name},
@@ -140,11 +129,12 @@ void runInfo(const InfoOptions& o) {
     if (!tris && !scene.spheres.empty()) j["scene"]["radius"] = scene.spheres[0].radius;
     j["load"] = loadJson(scene);
     j["octree"] = treeJson(tree);
-    j["layouts"] = layoutsJson(tree, hash, hashSeconds);
-    if (o.json)
-        std::cout << j.dump(2) << "\n";
+    std::vector<std::pair<std::string, std::string>> layoutLines;
+    j["layouts"] = layoutsJson(tree, lo, layoutLines);
+    if (o.json.empty())
+        printHuman(j, layoutLines);
     else
-        printHuman(j);
+        writeTextOutput(o.json, j.dump(2) + "\n");
 }
 
 }  // namespace
@@ -154,7 +144,7 @@ void registerInfo(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "info", "Load a scene, build its octree and report nodes, octree faces and layout bytes");
     addSceneOptions(*cmd, opts->scene);
-    cmd->add_flag("--json", opts->json, "Print one JSON object instead of text");
+    addJsonOption(*cmd, opts->json, "the report (instead of text on stdout)");
     cmd->callback([opts] { runInfo(*opts); });
 }
 

@@ -4,7 +4,6 @@
 #include <iostream>
 #include <optional>
 
-#include "apps/backend.h"
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
@@ -15,13 +14,11 @@ namespace {
 
 struct RenderOptions {
     SceneOptions scene;
-    std::string accel = "linear";
-    std::string backend = "auto";
+    TraceChoice trace{"linear", "auto"};
     std::string out, depthOut, primOut, costOut;
     std::string size = "512x512";
     std::string eye, target, up, light;
     float fov = 45.0f;
-    int threads = 0;
     bool compareEmbree = false;
 };
 
@@ -69,12 +66,13 @@ void checkOutputs(const RenderOptions& o) {
         if (!p->empty()) checkWritable(*p);
 }
 
-// Traces the same frame with Embree and prints the per-pixel agreement (validation policy of
-// DESIGN.md; `octrace validate` classifies the mismatches further).
-void printEmbreeAgreement(const FrameParams& frame, const BuiltScene& bs, const Film& film) {
+// Traces the same frame with Embree and prints the per-pixel agreement (the validation policy
+// of docs/VALIDATION.md; `octrace validate` classifies the mismatches further).
+void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Film& film) {
     Film truth;
-    renderWith(Backend::Embree, frame, bs, truth);
-    FilmComparison c = compareFilms(film, truth, sceneExtent(*bs.scene));
+    std::string note;
+    renderWith(resolveBackend("embree", note), bareScene(scene), frame, truth);
+    FilmComparison c = compareFilms(film, truth, sceneExtent(scene));
     std::printf(
         "embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "
         "%llu hit/miss and %llu distance mismatches; %llu shadow mismatches; "
@@ -88,35 +86,35 @@ void printEmbreeAgreement(const FrameParams& frame, const BuiltScene& bs, const 
 
 void runRender(const RenderOptions& o) {
     CameraOptions cam = cameraOptions(o);
-    Layout layout = parseLayout(o.accel);
+    const LayoutDesc& layout = parseOneLayout(o.trace.accel, "render");
     std::string note;
-    Backend backend = resolveBackend(o.backend, note);
+    const BackendDesc& backend = parseOneBackend(o.trace.backend, "render", note);
     checkOutputs(o);
-    setCpuThreadsFromOption(o.threads);
+    setCpuThreadsFromOption(o.trace.threads);
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     if (scene.report.totalDropped() > 0)
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
-    // Embree builds its own structure; ours is not needed for it.
-    Layout built = backend == Backend::Embree ? Layout::Exhaustive : layout;
-    BuiltScene bs = buildScene(scene, built, o.scene.layoutOptions());
+    // A backend with its own structure (Embree) is given the scene alone.
+    BuiltScene bs =
+        backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
     FrameParams frame = makeFrame(scene.bounds(), cam);
     Film film;
-    FrameTiming t = renderWith(backend, frame, bs, film);
+    FrameRun t = renderWith(backend, bs, frame, film);
     writeOutputs(o, film);
 
-    const char* accelName = backend == Backend::Embree ? "embree-bvh" : layoutName(layout);
     std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(), scene.primitiveCount(),
-                accelName, backendName(backend), frame.width, frame.height);
+                tracedStructure(backend, layout), backend.name, frame.width, frame.height);
     if (!note.empty()) std::printf("%s\n", note.c_str());
+    const double seconds = t.frameSeconds.empty() ? 0.0 : t.frameSeconds[0];
     std::printf("build   %.3f s\n", t.buildSeconds);
-    std::printf("frame   %.3f s\n", t.frameSeconds);
-    double s = t.frameSeconds > 0 ? t.frameSeconds : 1e-9;
+    std::printf("frame   %.3f s\n", seconds);
+    double s = seconds > 0 ? seconds : 1e-9;
     std::printf("rays    %llu primary + %llu shadow = %.3f Mrays/s\n",
                 (unsigned long long)t.primaryRays, (unsigned long long)t.shadowRays,
                 double(t.primaryRays + t.shadowRays) / s * 1e-6);
-    if (backend != Backend::Embree) {
+    if (backend.usesLayouts) {
         double nodes = 0, tested = 0;
         for (size_t i = 0; i < film.pixelCount(); ++i) {
             nodes += film.nodes[i];
@@ -128,25 +126,18 @@ void runRender(const RenderOptions& o) {
             nodes / double(film.pixelCount()), tested / double(film.pixelCount()));
     }
     std::printf("wrote   %s\n", o.out.c_str());
-    if (o.compareEmbree) printEmbreeAgreement(frame, bs, film);
+    if (o.compareEmbree) printEmbreeAgreement(frame, scene, film);
 }
 
 }  // namespace
-
-void addBackendOptions(CLI::App& cmd, std::string& accel, std::string& backend, int& threads) {
-    cmd.add_option("--accel", accel, "Acceleration layout: exhaustive, linear or hash")
-        ->capture_default_str();
-    cmd.add_option("--backend", backend, "cpu (OpenMP), embree (ground truth), cuda, or auto")
-        ->capture_default_str();
-    cmd.add_option("--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::Range(1, 4096));
-}
 
 void registerRender(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* cmd = app.add_subcommand("render", "Render a frame to PNG (and .npy arrays)");
     addSceneOptions(*cmd, o->scene);
-    addBackendOptions(*cmd, o->accel, o->backend, o->threads);
+    addTraceOptions(
+        *cmd, o->trace,
+        "Backend: " + backendNames() + ", or auto (cuda when a device answers, else cpu)");
     cmd->add_option("--out", o->out, "PNG image to write")->required();
     cmd->add_option("--depth", o->depthOut, "Write hit distances t as float32 (H, W) .npy");
     cmd->add_option("--prim", o->primOut, "Write primitive ids as int32 (H, W) .npy (-1: miss)");

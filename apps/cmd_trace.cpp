@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <cstring>
 
-#include "apps/backend.h"
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
@@ -16,9 +15,7 @@ namespace {
 struct TraceOptions {
     SceneOptions scene;
     std::string rays, out;
-    std::string accel = "linear";
-    std::string backend = "auto";
-    int threads = 0;
+    TraceChoice trace{"linear", "auto"};
 };
 
 // Loads and checks the ray array: shape (N, 8) float32, finite origins, finite non-zero
@@ -45,17 +42,17 @@ std::vector<float> loadRays(const std::string& path) {
 }
 
 void runTrace(const TraceOptions& o) {
-    Layout layout = parseLayout(o.accel);
+    const LayoutDesc& layout = parseOneLayout(o.trace.accel, "trace");
     std::string note;
-    Backend backend = resolveBackend(o.backend, note);
+    const BackendDesc& backend = parseOneBackend(o.trace.backend, "trace", note);
     checkWritable(o.out + ".t.npy");
-    setCpuThreadsFromOption(o.threads);
+    setCpuThreadsFromOption(o.trace.threads);
     std::vector<float> rays = loadRays(o.rays);
     uint64_t n = rays.size() / 8;
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
-    Layout built = backend == Backend::Embree ? Layout::Exhaustive : layout;
-    BuiltScene bs = buildScene(scene, built, o.scene.layoutOptions());
+    BuiltScene bs =
+        backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
     std::vector<float> t(n);
     std::vector<int32_t> prim(n);
     double seconds = traceWith(backend, bs, {rays.data(), t.data(), prim.data(), n});
@@ -67,9 +64,8 @@ void runTrace(const TraceOptions& o) {
     uint64_t hits = 0;
     for (int32_t p : prim) hits += p >= 0;
     std::printf("%llu rays, %llu hits, %s on %s, %.3f s (%.3f Mrays/s)\n", (unsigned long long)n,
-                (unsigned long long)hits,
-                backend == Backend::Embree ? "embree-bvh" : layoutName(layout),
-                backendName(backend), seconds, seconds > 0 ? double(n) / seconds * 1e-6 : 0.0);
+                (unsigned long long)hits, tracedStructure(backend, layout), backend.name, seconds,
+                seconds > 0 ? double(n) / seconds * 1e-6 : 0.0);
     std::printf("wrote   %s.t.npy %s.prim.npy\n", o.out.c_str(), o.out.c_str());
 }
 
@@ -79,7 +75,9 @@ void registerTrace(CLI::App& app) {
     auto o = std::make_shared<TraceOptions>();
     CLI::App* cmd = app.add_subcommand("trace", "Closest hits of a ray set given as .npy");
     addSceneOptions(*cmd, o->scene);
-    addBackendOptions(*cmd, o->accel, o->backend, o->threads);
+    addTraceOptions(
+        *cmd, o->trace,
+        "Backend: " + backendNames() + ", or auto (cuda when a device answers, else cpu)");
     cmd->add_option("--rays", o->rays, "float32 (N, 8) .npy: ox oy oz dx dy dz tmin tmax")
         ->required();
     cmd->add_option("--out", o->out, "Output prefix: PREFIX.t.npy and PREFIX.prim.npy")->required();

@@ -8,7 +8,6 @@
 #include <memory>
 #include <sstream>
 
-#include "apps/backend.h"
 #include "apps/cli.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
@@ -26,8 +25,7 @@ constexpr uint64_t kMaxValidateRays = 100000000;
 
 struct ValidateCliOptions {
     SceneOptions scene;
-    std::string accel = "linear,hash";
-    std::string backend = "cpu";
+    TraceChoice trace{"linear,hash", "cpu"};
     std::string size = "256x256";
     uint64_t rays = ValidateOptions{}.rays;
     uint64_t seed = ValidateOptions{}.seed;
@@ -36,45 +34,18 @@ struct ValidateCliOptions {
     bool noReplication = false;
     bool table1 = false;
     std::string meshes = "meshes";
-    int threads = 0;
 };
 
-std::vector<std::string> splitList(const std::string& s) {
-    std::vector<std::string> out;
-    std::stringstream in(s);
-    std::string item;
-    while (std::getline(in, item, ','))
-        if (!item.empty()) out.push_back(item);
-    return out;
-}
-
-std::vector<Layout> parseLayouts(const std::string& text) {
-    std::vector<Layout> out;
-    for (const std::string& name : splitList(text)) {
-        if (name == "all") {
-            out = {Layout::Exhaustive, Layout::Linear, Layout::Hash};
-            continue;
-        }
-        Layout l = parseLayout(name);
-        if (std::find(out.begin(), out.end(), l) == out.end()) out.push_back(l);
-    }
-    if (out.empty()) throw std::runtime_error("--accel '" + text + "' names no layout");
-    return out;
-}
-
-std::vector<Backend> parseBackends(const std::string& text) {
-    std::vector<Backend> out;
-    for (const std::string& name : splitList(text)) {
-        if (name == "embree")
-            throw std::runtime_error(
-                "--backend embree: Embree is the reference validate "
-                "compares against; use cpu or cuda");
-        std::string note;
-        Backend b = resolveBackend(name, note);  // throws cleanly for cuda without a device
-        if (!note.empty()) std::fprintf(stderr, "%s\n", note.c_str());
-        if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
-    }
-    if (out.empty()) throw std::runtime_error("--backend '" + text + "' names no backend");
+// The backends under test: Embree (any backend with its own structure) is the reference.
+std::vector<const BackendDesc*> backendsUnderTest(const std::string& text) {
+    std::vector<std::string> notes;
+    std::vector<const BackendDesc*> out = parseBackendList(text, notes);
+    for (const std::string& n : notes) std::fprintf(stderr, "%s\n", n.c_str());
+    for (const BackendDesc* b : out)
+        if (!b->usesLayouts)
+            throw std::runtime_error(std::string("--backend ") + b->name + ": " + b->name +
+                                     " is the reference validate compares against; use a "
+                                     "backend that traces our layouts");
     return out;
 }
 
@@ -88,16 +59,6 @@ void checkRayCount(uint64_t rays) {
                                  std::to_string(kMaxValidateRays) +
                                  " seeded rays validate supports (each costs about 50 bytes "
                                  "per tracer); use fewer");
-}
-
-void writeText(const std::string& path, const std::string& text) {
-    if (path == "-") {
-        std::cout << text;
-        return;
-    }
-    std::ofstream out(path);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
 // diff.png for one run; with several runs, diff-LAYOUT-BACKEND.png.
@@ -115,7 +76,7 @@ void runTable1(const ValidateCliOptions& o) {
         rows.push_back(table1Row(path, o.scene.layoutOptions().build));
     std::fprintf(summaryStream(o.json), "Table 1 (max depth %d, max prims %u)\n%s",
                  o.scene.maxDepth, o.scene.maxPrims, humanTable1(rows).c_str());
-    if (!o.json.empty()) writeText(o.json, toJson(rows).dump(2) + "\n");
+    if (!o.json.empty()) writeTextOutput(o.json, toJson(rows).dump(2) + "\n");
 }
 
 void runValidate(const ValidateCliOptions& o) {
@@ -123,9 +84,9 @@ void runValidate(const ValidateCliOptions& o) {
     if (o.scene.path.empty())
         throw std::runtime_error("validate needs a SCENE (or --table1); see --help");
     checkRayCount(o.rays);
-    std::vector<Layout> layouts = parseLayouts(o.accel);
-    std::vector<Backend> backends = parseBackends(o.backend);
-    setCpuThreadsFromOption(o.threads);
+    std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
+    std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
+    setCpuThreadsFromOption(o.trace.threads);
     ValidateOptions vo;
     parseImageSize(o.size, vo.camera.width, vo.camera.height);
     vo.rays = o.rays;
@@ -138,33 +99,31 @@ void runValidate(const ValidateCliOptions& o) {
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
     LayoutOptions lo = o.scene.layoutOptions();
+    // One canonical octree, shared by every layout converted from it and checked for
+    // replication (also built for an exhaustive-only run when replication is asked).
+    std::shared_ptr<const Octree> canonical;
+    bool needTree = vo.replication;
+    for (const LayoutDesc* l : layoutList) needTree = needTree || l->usesOctree;
+    if (needTree) canonical = buildSharedOctree(scene, lo.build);
     std::vector<std::unique_ptr<BuiltScene>> built;
+    std::vector<std::shared_ptr<SceneTracer>> prepared;
     std::vector<TracerUnderTest> tracers;
-    for (Layout l : layouts) {
-        built.push_back(std::make_unique<BuiltScene>(buildScene(scene, l, lo)));
-        const BuiltScene* bs = built.back().get();
-        for (Backend b : backends)
-            tracers.push_back(
-                {layoutName(l), backendName(b),
-                 [bs, b](const FrameParams& p, Film& film) { renderWith(b, p, *bs, film); },
-                 [bs, b](RayBatchView batch) { traceWith(b, *bs, batch); }});
-    }
-    // The canonical octree every octree layout was converted from (any built one will do: the
-    // build is deterministic); exhaustive-only runs build it just for the replication check.
-    const Octree* canonical = nullptr;
-    Octree own;
-    for (const auto& bs : built)
-        if (bs->layout != Layout::Exhaustive) canonical = &bs->tree;
-    if (!canonical && vo.replication) {
-        own = buildOctree(scene, lo.build);
-        canonical = &own;
+    for (const LayoutDesc* l : layoutList) {
+        built.push_back(std::make_unique<BuiltScene>(convertLayout(scene, canonical, *l, lo)));
+        for (const BackendDesc* b : backendList) {
+            std::shared_ptr<SceneTracer> t = b->prepare(*built.back());
+            prepared.push_back(t);
+            tracers.push_back({l->name, b->name,
+                               [t](const FrameParams& p, Film& film) { t->render(p, film); },
+                               [t](RayBatchView batch) { t->trace(batch); }});
+        }
     }
 
-    ValidationReport rep = validateScene(scene, tracers, canonical, vo);
+    ValidationReport rep = validateScene(scene, tracers, canonical.get(), vo);
     std::FILE* human = summaryStream(o.json);
     std::fputs(humanSummary(rep).c_str(), human);
     std::fflush(human);
-    if (!o.json.empty()) writeText(o.json, toJson(rep).dump(2) + "\n");
+    if (!o.json.empty()) writeTextOutput(o.json, toJson(rep).dump(2) + "\n");
     if (!o.diffImage.empty())
         for (const RunReport& run : rep.runs) {
             std::string path = diffPath(o.diffImage, run, rep.runs.size());
@@ -194,23 +153,19 @@ void registerValidate(CLI::App& app) {
         "leaf lists against an exact overlap test (docs/VALIDATION.md); exit 0 only on PASS");
     addSceneOptions(*cmd, o->scene);
     cmd->get_option("scene")->required(false);  // not needed with --table1
-    cmd->add_option(
-           "--accel", o->accel,
-           "Layouts to check, comma-separated: exhaustive, linear, hash, or all (exhaustive "
-           "costs pixels x primitives: minutes on the bunny)")
-        ->capture_default_str();
-    cmd->add_option("--backend", o->backend, "Backends to check, comma-separated: cpu, cuda")
-        ->capture_default_str();
-    cmd->add_option("--threads", o->threads,
-                    "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::Range(1, 4096));
+    addTraceOptions(*cmd, o->trace,
+                    "Backends to check, comma-separated: those that trace our layouts (" +
+                        backendNames() + " without the reference embree), or auto");
+    cmd->get_option("--accel")->description(
+        "Layouts to check, comma-separated: " + layoutNames() +
+        ", or all (exhaustive costs pixels x primitives: minutes on the bunny)");
     cmd->add_option("--size", o->size, "Image size WxH of the per-pixel check")
         ->capture_default_str();
     cmd->add_option("--rays", o->rays,
                     "Seeded rays (around, inside, axis-parallel); 0 for none, at most 1e8")
         ->capture_default_str();
     cmd->add_option("--seed", o->seed, "Seed of the ray sets")->capture_default_str();
-    cmd->add_option("--json", o->json, "Write the report as JSON to this file ('-': stdout)");
+    addJsonOption(*cmd, o->json, "the report");
     cmd->add_option("--diff-image", o->diffImage,
                     "Write a PNG heat map of |dt| with wrong pixels marked (one per run: "
                     "NAME-LAYOUT-BACKEND.png when there are several)");

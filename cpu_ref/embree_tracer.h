@@ -8,7 +8,7 @@
 
 #include <stdexcept>
 
-#include "core/octree/traversal.h"
+#include "core/geometry/ray.h"
 #include "core/scene/scene.h"
 
 namespace oct {

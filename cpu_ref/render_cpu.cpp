@@ -8,16 +8,16 @@ void setCpuThreads(int threads) {
 
 double renderCpu(const FrameParams& p, const BuiltScene& scene, Film& film) {
     film = Film(p.width, p.height);
-    FilmView fv = film.view();
-    double start = omp_get_wtime();
-    visitView(scene, [&](const auto& view) { renderFrameCpu(p, view, scene.prims(), fv); });
-    return omp_get_wtime() - start;
+    const FilmView fv = film.view();
+    const PrimitivesView prims = scene.prims();
+    return timeFrames(0, 1, [&] {
+        scene.visit([&](const auto& view) { renderFrameCpu(p, view, prims, fv); });
+    })[0];
 }
 
 double traceCpu(const BuiltScene& scene, RayBatchView batch) {
-    double start = omp_get_wtime();
-    visitView(scene, [&](const auto& view) { traceRaysCpu(view, batch); });
-    return omp_get_wtime() - start;
+    return timeFrames(
+        0, 1, [&] { scene.visit([&](const auto& view) { traceRaysCpu(view, batch); }); })[0];
 }
 
 }  // namespace oct

@@ -1,10 +1,12 @@
-// The OpenMP backend: a parallel loop over pixels (or rays) calling the core kernel, nothing
+// The OpenMP launcher: a parallel loop over pixels (or rays) calling the core kernel, nothing
 // else. Embree's ground truth runs through the same loops with its own accelerator.
 #pragma once
 
 #include <omp.h>
 
-#include "core/octree/accel.h"
+#include <vector>
+
+#include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
 
@@ -28,8 +30,23 @@ void traceRaysCpu(const Accel& accel, RayBatchView batch) {
     for (int64_t i = 0; i < n; ++i) traceRayAt(static_cast<uint64_t>(i), accel, batch);
 }
 
+// Runs frame() warmup times untimed, then max(1, repeats) times timed by the wall clock;
+// returns the timed seconds. The one timing rule of the CPU backends (OpenMP and Embree).
+template <class F>
+std::vector<double> timeFrames(int warmup, int repeats, F&& frame) {
+    for (int i = 0; i < warmup; ++i) frame();
+    std::vector<double> times;
+    for (int i = 0; i < (repeats < 1 ? 1 : repeats); ++i) {
+        const double start = omp_get_wtime();
+        frame();
+        times.push_back(omp_get_wtime() - start);
+    }
+    return times;
+}
+
 // Renders with the built layout on the CPU; returns the frame time in seconds.
 double renderCpu(const FrameParams& p, const BuiltScene& scene, Film& film);
+// Closest hits of a batch with the built layout on the CPU; returns seconds.
 double traceCpu(const BuiltScene& scene, RayBatchView batch);
 
 }  // namespace oct

@@ -16,7 +16,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "core/octree/layouts.h"
+#include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
 #include "core/scene/load_scene.h"
 

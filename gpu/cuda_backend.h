@@ -5,7 +5,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/octree/accel.h"
+#include "backends/backend.h"
+#include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
 
@@ -19,6 +20,9 @@ public:
 // True when a CUDA device answers; `why` gets its name and compute capability, or the reason
 // (no driver, no device) in one line. Never throws.
 bool cudaDevicePresent(std::string& why);
+
+// The backend's registry entry: the core kernel, one thread per pixel (or ray).
+BackendDesc cudaBackend();
 
 struct CudaTiming {
     double uploadSeconds = 0.0;

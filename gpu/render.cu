@@ -2,6 +2,7 @@
 // per-pixel function (core/render/kernel.h) one thread per pixel. Nothing here traces or shades.
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include "core/time_spread.h"
@@ -29,41 +30,35 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The scene's primitives, leaf index array and the chosen layout's nodes in device memory.
+// The scene's primitives and the chosen layout's arrays in device memory, and the layout's
+// LayoutArrays with device pointers: the view is then built by the same registry dispatch as on
+// the host (visitLayoutView), so this file names no layout.
 struct DeviceScene {
     DeviceBuffer<Triangle> tris;
     DeviceBuffer<Sphere> spheres;
-    DeviceBuffer<uint32_t> primIndices;
-    DeviceBuffer<OctreeNode> nodes;  // linear array or hash slots
+    DeviceBuffer<uint8_t> arrays[LayoutArrays::kMaxArrays];
+    LayoutArrays deviceArrays{};
     PrimitivesView prims{};
+    const LayoutDesc* layout = nullptr;
 
-    explicit DeviceScene(const BuiltScene& b) {
+    explicit DeviceScene(const BuiltScene& b) : layout(b.layout) {
         const Scene& s = *b.scene;
         tris.upload(s.triangles, "the triangles");
         spheres.upload(s.spheres, "the spheres");
-        primIndices.upload(b.tree.primIndices, "the leaf primitive index array");
-        if (b.layout == Layout::Linear) nodes.upload(b.linear.nodes, "the linear octree");
-        if (b.layout == Layout::Hash) nodes.upload(b.hash.slots, "the hash octree");
         prims = b.prims();
         prims.tris = tris.get();
         prims.spheres = spheres.get();
+        deviceArrays = b.storage.arrays;
+        for (int i = 0; i < LayoutArrays::kMaxArrays; ++i) {
+            const LayoutArray& a = b.storage.arrays.arrays[i];
+            arrays[i].upload(static_cast<const uint8_t*>(a.data), a.bytes, "the layout's arrays");
+            deviceArrays.arrays[i] = {arrays[i].get(), a.bytes};
+        }
     }
 
-    // Same switch as visitView (core/octree/accel.h), with device pointers.
     template <class F>
-    void visit(const BuiltScene& b, F&& f) const {
-        switch (b.layout) {
-            case Layout::Linear:
-                f(LinearOctreeView{nodes.get(), nodes.size(), primIndices.get(), prims});
-                break;
-            case Layout::Hash:
-                f(HashOctreeView{nodes.get(), b.hash.bucketCount, b.hash.bucketSlots,
-                                 primIndices.get(), prims});
-                break;
-            case Layout::Exhaustive:
-            default:
-                f(ExhaustiveView{prims});
-        }
+    void visit(F&& f) const {
+        visitLayoutView(*layout, deviceArrays, prims, f);
     }
 };
 
@@ -143,68 +138,108 @@ bool cudaDevicePresent(std::string& why) {
     return true;
 }
 
+namespace {
+
+// The CUDA backend prepared for one scene: uploaded once, then any number of frames and ray
+// batches.
+class CudaSceneTracer : public SceneTracer {
+public:
+    explicit CudaSceneTracer(const BuiltScene& b) {
+        auto t0 = std::chrono::steady_clock::now();
+        scene_ = std::make_unique<DeviceScene>(b);
+        uploadSeconds_ = secondsSince(t0);
+    }
+    double prepareSeconds() const override { return uploadSeconds_; }
+
+    std::vector<double> render(const FrameParams& p, Film& film, int warmup, int repeats) override {
+        film = Film(p.width, p.height);
+        DeviceFilm dfilm(film.pixelCount());
+        dim3 block(16, 8);
+        dim3 grid((p.width + block.x - 1) / block.x, (p.height + block.y - 1) / block.y);
+        FilmView fv = dfilm.view(p.width, p.height);
+        std::vector<double> times;
+        EventTimer timer;
+        const PrimitivesView prims = scene_->prims;
+        scene_->visit([&](auto view) {
+            for (int i = 0; i < warmup; ++i) {
+                renderKernel<<<grid, block>>>(p, view, prims, fv);
+                OCT_CUDA_CHECK_LAUNCH();
+            }
+            for (int i = 0; i < std::max(1, repeats); ++i) {
+                timer.start();
+                renderKernel<<<grid, block>>>(p, view, prims, fv);
+                OCT_CUDA_CHECK(cudaGetLastError());
+                times.push_back(timer.stopSeconds());
+                OCT_CUDA_CHECK_LAUNCH();
+            }
+        });
+        auto t0 = std::chrono::steady_clock::now();
+        dfilm.download(film);
+        downloadSeconds_ = secondsSince(t0);
+        return times;
+    }
+
+    double trace(RayBatchView batch) override {
+        DeviceBuffer<float> rays, t;
+        DeviceBuffer<int32_t> prim;
+        rays.upload(batch.rays, 8 * batch.count, "the rays");
+        t.allocate(batch.count, "the hit distances");
+        prim.allocate(batch.count, "the primitive ids");
+        RayBatchView dev{rays.get(), t.get(), prim.get(), batch.count};
+        double seconds = 0.0;
+        if (batch.count > 0) {
+            unsigned block = 128;
+            unsigned grid = unsigned((batch.count + block - 1) / block);
+            EventTimer timer;
+            scene_->visit([&](auto view) {
+                timer.start();
+                traceKernel<<<grid, block>>>(view, dev);
+                OCT_CUDA_CHECK(cudaGetLastError());
+                seconds = timer.stopSeconds();
+                OCT_CUDA_CHECK_LAUNCH();
+            });
+        }
+        t.download(batch.t, batch.count);
+        prim.download(batch.prim, batch.count);
+        return seconds;
+    }
+
+    double downloadSeconds() const { return downloadSeconds_; }
+
+private:
+    std::unique_ptr<DeviceScene> scene_;
+    double uploadSeconds_ = 0.0, downloadSeconds_ = 0.0;
+};
+
+std::unique_ptr<SceneTracer> prepareCuda(const BuiltScene& b) {
+    return std::make_unique<CudaSceneTracer>(b);
+}
+
+}  // namespace
+
+BackendDesc cudaBackend() {
+    return {"cuda",      "the core kernel on the GPU, one thread per pixel or ray",
+            true,        nullptr,
+            true,        &cudaDevicePresent,
+            &prepareCuda};
+}
+
 double renderCuda(const FrameParams& p, const BuiltScene& b, Film& film, CudaTiming* timing,
                   int warmup, int repeats) {
+    CudaSceneTracer tracer(b);
+    const TimeSpread spread = timeSpread(tracer.render(p, film, warmup, repeats));
     CudaTiming tm;
-    auto t0 = std::chrono::steady_clock::now();
-    DeviceScene scene(b);
-    film = Film(p.width, p.height);
-    DeviceFilm dfilm(film.pixelCount());
-    tm.uploadSeconds = secondsSince(t0);
-
-    dim3 block(16, 8);
-    dim3 grid((p.width + block.x - 1) / block.x, (p.height + block.y - 1) / block.y);
-    FilmView fv = dfilm.view(p.width, p.height);
-    std::vector<double> times;
-    EventTimer timer;
-    scene.visit(b, [&](auto view) {
-        for (int i = 0; i < warmup; ++i) {
-            renderKernel<<<grid, block>>>(p, view, scene.prims, fv);
-            OCT_CUDA_CHECK_LAUNCH();
-        }
-        for (int i = 0; i < std::max(1, repeats); ++i) {
-            timer.start();
-            renderKernel<<<grid, block>>>(p, view, scene.prims, fv);
-            OCT_CUDA_CHECK(cudaGetLastError());
-            times.push_back(timer.stopSeconds());
-            OCT_CUDA_CHECK_LAUNCH();
-        }
-    });
-    t0 = std::chrono::steady_clock::now();
-    dfilm.download(film);
-    tm.downloadSeconds = secondsSince(t0);
-    const TimeSpread spread = timeSpread(times);  // the rule octrace bench uses for the CPU
-    tm.kernelSeconds = spread.median;
+    tm.uploadSeconds = tracer.prepareSeconds();
+    tm.kernelSeconds = spread.median;  // the rule octrace bench uses for the CPU
     tm.minKernelSeconds = spread.min;
     tm.maxKernelSeconds = spread.max;
+    tm.downloadSeconds = tracer.downloadSeconds();
     if (timing) *timing = tm;
     return tm.kernelSeconds;
 }
 
 double traceCuda(const BuiltScene& b, RayBatchView batch) {
-    DeviceScene scene(b);
-    DeviceBuffer<float> rays, t;
-    DeviceBuffer<int32_t> prim;
-    rays.upload(batch.rays, 8 * batch.count, "the rays");
-    t.allocate(batch.count, "the hit distances");
-    prim.allocate(batch.count, "the primitive ids");
-    RayBatchView dev{rays.get(), t.get(), prim.get(), batch.count};
-    double seconds = 0.0;
-    if (batch.count > 0) {
-        unsigned block = 128;
-        unsigned grid = unsigned((batch.count + block - 1) / block);
-        EventTimer timer;
-        scene.visit(b, [&](auto view) {
-            timer.start();
-            traceKernel<<<grid, block>>>(view, dev);
-            OCT_CUDA_CHECK(cudaGetLastError());
-            seconds = timer.stopSeconds();
-            OCT_CUDA_CHECK_LAUNCH();
-        });
-    }
-    t.download(batch.t, batch.count);
-    prim.download(batch.prim, batch.count);
-    return seconds;
+    return CudaSceneTracer(b).trace(batch);
 }
 
 }  // namespace oct

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/octree/traversal.h"
+#include "core/geometry/ray.h"
 #include "core/scene/scene.h"
 
 namespace oct {

@@ -23,7 +23,7 @@
 
 #include <cstdint>
 
-#include "core/octree/traversal.h"
+#include "core/geometry/ray.h"
 #include "core/scene/scene.h"
 #include "validation/double_tracer.h"
 #include "validation/film_compare.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/octree/layouts.h"
+#include "core/octree/built_scene.h"
 #include "core/render/kernel.h"
 
 namespace oct {
@@ -115,12 +115,9 @@ Ray ourShadowRay(const FrameParams& p, const PrimitivesView& prims, const Ray& p
         facing = NAN;
         return Ray{};
     }
-    Vec3 pos = primary.org + primary.dir * h.t;
-    Vec3 n = hitNormal(prims, h.prim, pos, primary.dir);
-    float lightDist;
-    Ray s = shadowRay(pos, n, p.shading, lightDist);
-    facing = dot(n, s.dir);
-    return s;
+    const ShadowQuery q = shadowQuery(p.shading, prims, primary, h);
+    facing = q.facing;
+    return q.ray;
 }
 
 }  // namespace

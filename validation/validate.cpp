@@ -2,9 +2,7 @@
 
 #include <chrono>
 
-#include "core/octree/layouts.h"
-#include "cpu_ref/embree_tracer.h"
-#include "cpu_ref/render_cpu.h"
+#include "cpu_ref/embree_backend.h"
 
 namespace oct {
 namespace {
@@ -54,17 +52,17 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
 
     // The reference: Embree (robust mode) through the same per-pixel kernel.
     auto refStart = std::chrono::steady_clock::now();
-    EmbreeTracer embree(scene);
-    const PrimitivesView prims = primitivesView(scene);
-    Film refFilm(frame.width, frame.height);
-    renderFrameCpu(frame, embree.accel(), prims, refFilm.view());
+    const BuiltScene bare = bareScene(scene);
+    EmbreeSceneTracer embree(bare);
+    Film refFilm;
+    embree.render(frame, refFilm);
     std::vector<float> tRef(rays.count());
     std::vector<int32_t> pRef(rays.count());
-    traceRaysCpu(embree.accel(), {rays.rays.data(), tRef.data(), pRef.data(), rays.count()});
+    embree.trace({rays.rays.data(), tRef.data(), pRef.data(), rays.count()});
     rep.referenceSeconds = since(refStart);
     OcclusionQuery occluded = [&embree](const Ray& r) {
         TraceCost cost = {0, 0};
-        return anyHit(embree.accel(), r, cost);
+        return anyHit(embree.embree().accel(), r, cost);
     };
 
     for (const TracerUnderTest& t : tracers) {

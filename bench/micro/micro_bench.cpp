@@ -17,7 +17,7 @@
 
 #include "core/geometry/aabb.h"
 #include "core/geometry/primitives.h"
-#include "core/octree/layouts.h"
+#include "core/octree/built_scene.h"
 #include "core/octree/morton.h"
 #include "core/octree/traversal.h"
 #include "core/scene/grid_cloud.h"

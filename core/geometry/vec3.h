@@ -17,9 +17,11 @@ struct Vec3 {
 };
 static_assert(sizeof(Vec3) == 12, "Vec3 must be three packed floats");
 
-// Compare-and-select min/max. Unlike fminf/fmaxf, which GCC calls in libm rather than inline
-// (their NaN rules differ from minss/maxss), these compile to one instruction on both host and
-// device. Callers guarantee non-NaN operands (the slab test never forms 0 * inf).
+// Compare-and-select min/max for the traversal's hot loops. Unlike fminf/fmaxf, which GCC calls
+// in libm rather than inline (their NaN rules differ from minss/maxss), these compile to one
+// instruction on both host and device. Callers guarantee non-NaN operands (the slab test never
+// forms 0 * inf). fminf/fmaxf remain where their NaN rule is wanted and speed is not: clamping a
+// colour to a byte (kernel.h toByte maps NaN to 0) and growing host-side boxes (vmin/vmax).
 OCT_HD inline float minf(float a, float b) { return b < a ? b : a; }
 OCT_HD inline float maxf(float a, float b) { return a < b ? b : a; }
 

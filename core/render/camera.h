@@ -2,7 +2,7 @@
 #pragma once
 
 #include "core/geometry/aabb.h"
-#include "core/octree/traversal.h"
+#include "core/geometry/ray.h"
 
 namespace oct {
 

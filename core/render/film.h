@@ -1,7 +1,10 @@
-// The Film: what a frame produces per pixel, row-major (index y * width + x).
+// The Film: what a frame produces per pixel, row-major (index y * width + x): the kernel-side
+// view of its arrays and the host object that owns them.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include "core/platform.h"
 
@@ -22,6 +25,21 @@ struct FilmView {
     uint8_t* shadow;        // kNoShadowRay, kLit or kOccluded
     int width;
     int height;
+};
+
+// Owns the arrays a FilmView points to (host memory).
+struct Film {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb;
+    std::vector<float> t;
+    std::vector<int32_t> prim;
+    std::vector<uint32_t> nodes, primsTested;
+    std::vector<uint8_t> shadow;
+
+    Film() = default;
+    Film(int w, int h);
+    FilmView view();
+    size_t pixelCount() const { return size_t(width) * size_t(height); }
 };
 
 }  // namespace oct

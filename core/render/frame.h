@@ -34,19 +34,4 @@ constexpr int kMaxImageSide = 16384;
 // fov outside (0, 180), or a size outside [1, kMaxImageSide].
 FrameParams makeFrame(const Aabb& sceneBounds, const CameraOptions& opt);
 
-// Owns the arrays a FilmView points to.
-struct Film {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgb;
-    std::vector<float> t;
-    std::vector<int32_t> prim;
-    std::vector<uint32_t> nodes, primsTested;
-    std::vector<uint8_t> shadow;
-
-    Film() = default;
-    Film(int w, int h);
-    FilmView view();
-    size_t pixelCount() const { return size_t(width) * size_t(height); }
-};
-
 }  // namespace oct

@@ -3,7 +3,8 @@
 // backend passes an accelerator whose hit queries call Embree. Everything else is this code.
 #pragma once
 
-#include "core/octree/traversal.h"
+#include "core/geometry/primitives_view.h"
+#include "core/geometry/ray.h"
 #include "core/render/camera.h"
 #include "core/render/film.h"
 
@@ -45,6 +46,27 @@ OCT_HD inline Ray shadowRay(Vec3 pos, Vec3 normal, const ShadingParams& s, float
     return {origin, toLight * (1.0f / lightDist), 0.0f, lightDist};
 }
 
+// Everything the kernel derives from a primary hit before shading it. Written once: the kernel
+// and every check that rebuilds a pixel's shadow ray (validation, `octrace rays`) call this.
+struct ShadowQuery {
+    Ray ray;       // towards the light, tmax = the light's distance
+    Vec3 normal;   // geometric normal facing the primary ray
+    float facing;  // dot(normal, ray.dir)
+    bool cast;     // false: the surface faces away from the light, unlit without asking
+};
+
+OCT_HD inline ShadowQuery shadowQuery(const ShadingParams& s, const PrimitivesView& prims,
+                                      const Ray& primary, Hit hit) {
+    ShadowQuery q;
+    Vec3 pos = primary.org + primary.dir * hit.t;
+    q.normal = hitNormal(prims, hit.prim, pos, primary.dir);
+    float lightDist;
+    q.ray = shadowRay(pos, q.normal, s, lightDist);
+    q.facing = dot(q.normal, q.ray.dir);
+    q.cast = q.facing > 0.0f;
+    return q;
+}
+
 OCT_HD inline Vec3 phong(const ShadingParams& s, Vec3 normal, Vec3 toLight, Vec3 dir,
                          bool shadowed) {
     Vec3 c = s.surfaceColour * s.ambient;
@@ -66,13 +88,9 @@ OCT_HD inline void renderPixel(int x, int y, const FrameParams& p, const Accel& 
     Vec3 colour = p.shading.background;
     uint8_t shadow = kNoShadowRay;
     if (hit.prim >= 0) {
-        Vec3 pos = ray.org + ray.dir * hit.t;
-        Vec3 n = hitNormal(prims, hit.prim, pos, ray.dir);
-        float lightDist;
-        Ray sray = shadowRay(pos, n, p.shading, lightDist);
-        // A surface facing away from the light is unlit without asking: no shadow ray.
-        if (dot(n, sray.dir) > 0.0f) shadow = anyHit(accel, sray, cost) ? kOccluded : kLit;
-        colour = phong(p.shading, n, sray.dir, ray.dir, shadow == kOccluded);
+        const ShadowQuery sq = shadowQuery(p.shading, prims, ray, hit);
+        if (sq.cast) shadow = anyHit(accel, sq.ray, cost) ? kOccluded : kLit;
+        colour = phong(p.shading, sq.normal, sq.ray.dir, ray.dir, shadow == kOccluded);
     }
     film.rgb[3 * idx + 0] = toByte(colour.x);
     film.rgb[3 * idx + 1] = toByte(colour.y);

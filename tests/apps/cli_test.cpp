@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "core/io/npy.h"
-#include "core/octree/accel.h"
+#include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/embree_tracer.h"
@@ -203,7 +203,7 @@ TEST_F(Cli, RenderWritesPngAndArraysEqualToAnInProcessFrame) {
     cam.width = w;
     cam.height = h;
     FrameParams frame = makeFrame(scene.bounds(), cam);
-    BuiltScene built = buildScene(scene, Layout::Exhaustive, LayoutOptions{});
+    BuiltScene built = buildScene(scene, findLayout("exhaustive"), LayoutOptions{});
     Film film;
     renderCpu(frame, built, film);
     EXPECT_TRUE(sameBits(npyVector<float>(t), film.t));

@@ -2,8 +2,6 @@
 // (core/octree/layouts.cpp), checked against invariants computed independently of the code under
 // test: Morton ancestry, volumes, a double-precision brute-force triangle/box test
 // (brute_sat.h), a breadth-first walk for linear positions, and trial-division primes.
-#include "core/octree/layouts.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "core/octree/built_scene.h"
 #include "core/octree/morton.h"
 #include "core/scene/grid_cloud.h"
 #include "tests/core/brute_sat.h"

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/octree/layouts.h"
+#include "core/octree/built_scene.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
 

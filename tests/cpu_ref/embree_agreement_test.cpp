@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/octree/accel.h"
+#include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
@@ -89,7 +89,7 @@ Film renderEmbree(const FrameParams& p, const Scene& scene) {
     return film;
 }
 
-Film renderLayout(const FrameParams& p, const Scene& scene, Layout layout) {
+Film renderLayout(const FrameParams& p, const Scene& scene, const LayoutDesc& layout) {
     BuiltScene built = buildScene(scene, layout, LayoutOptions{});
     Film film;
     renderCpu(p, built, film);
@@ -144,17 +144,21 @@ TEST_P(EmbreeAgreement, EveryLayoutAgreesWithEmbreeAndExactlyWithExhaustive) {
     Film embree = renderEmbree(frame, scene);
     const double pixels = double(embree.pixelCount());
 
-    // The first layout rendered is the reference for the exact comparison: exhaustive
-    // tracing, or the linear octree where exhaustive tracing is skipped.
-    std::vector<Layout> layouts = {Layout::Linear, Layout::Hash};
-    if (c.exhaustive) layouts.insert(layouts.begin(), Layout::Exhaustive);
+    // Every layout of the registry, so a new layout is checked here without editing this test.
+    // The first one rendered is the reference for the exact comparison: exhaustive tracing, or
+    // the first octree layout where tracing without a structure is skipped (the bunny).
+    std::vector<const LayoutDesc*> chosen;
+    for (const LayoutDesc& l : layouts())
+        if (c.exhaustive || l.usesOctree) chosen.push_back(&l);
+    ASSERT_GE(chosen.size(), 2u);
     Film reference;
-    for (Layout layout : layouts) {
-        SCOPED_TRACE(std::string(layoutName(layout)));
+    for (const LayoutDesc* lp : chosen) {
+        const LayoutDesc& layout = *lp;
+        SCOPED_TRACE(std::string(layout.name));
         Film film = renderLayout(frame, scene, layout);
         FilmComparison cmp = compareFilms(film, embree, extent);
-        std::printf("[ %-8s ] %-14s %-10s vs embree: %s\n", "agree", c.name.c_str(),
-                    layoutName(layout), describe(cmp).c_str());
+        std::printf("[ %-8s ] %-14s %-10s vs embree: %s\n", "agree", c.name.c_str(), layout.name,
+                    describe(cmp).c_str());
         EXPECT_EQ(cmp.pixels, embree.pixelCount());
         EXPECT_EQ(cmp.distanceMismatch, 0u) << describe(cmp);
         EXPECT_LE(cmp.maxRelativeDt, kDefaultRelativeTolerance) << describe(cmp);
@@ -163,7 +167,7 @@ TEST_P(EmbreeAgreement, EveryLayoutAgreesWithEmbreeAndExactlyWithExhaustive) {
         // The frame must show the scene, or agreement would be vacuous.
         EXPECT_GT(cmp.bothHitAgree + cmp.ties, uint64_t(0.04 * pixels)) << describe(cmp);
 
-        if (layout == layouts.front()) {
+        if (lp == chosen.front()) {
             reference = std::move(film);
             continue;
         }
@@ -171,9 +175,8 @@ TEST_P(EmbreeAgreement, EveryLayoutAgreesWithEmbreeAndExactlyWithExhaustive) {
         std::printf(
             "[ %-8s ] %-14s %-10s vs %s: differing t %llu, prim %llu, shadow %llu, "
             "rgb %llu\n",
-            "agree", c.name.c_str(), layoutName(layout), layoutName(layouts.front()),
-            (unsigned long long)d.t, (unsigned long long)d.prim, (unsigned long long)d.shadow,
-            (unsigned long long)d.rgb);
+            "agree", c.name.c_str(), layout.name, chosen.front()->name, (unsigned long long)d.t,
+            (unsigned long long)d.prim, (unsigned long long)d.shadow, (unsigned long long)d.rgb);
         EXPECT_EQ(d.t, 0u);
         EXPECT_EQ(d.prim, 0u);
         EXPECT_EQ(d.shadow, 0u);

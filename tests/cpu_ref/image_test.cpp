@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "core/octree/accel.h"
+#include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/embree_tracer.h"
@@ -50,7 +50,7 @@ protected:
         opt.fovDegrees = 40.0f;
         opt.light = kLight;
         frame_ = makeFrame(scene_->bounds(), opt);
-        BuiltScene built = buildScene(*scene_, Layout::Linear, LayoutOptions{});
+        BuiltScene built = buildScene(*scene_, findLayout("linear"), LayoutOptions{});
         film_ = new Film;
         renderCpu(frame_, built, *film_);
         EmbreeTracer embree(*scene_);

@@ -45,7 +45,7 @@ void expectBitEqual(const Scene& scene, int w, int h) {
     cam.width = w;
     cam.height = h;
     FrameParams frame = makeFrame(scene.bounds(), cam);
-    for (Layout layout : {Layout::Exhaustive, Layout::Linear, Layout::Hash}) {
+    for (const LayoutDesc& layout : layouts()) {  // every layout of the registry
         BuiltScene b = buildScene(scene, layout, {});
         Film cpu, gpu;
         renderCpu(frame, b, cpu);
@@ -53,7 +53,7 @@ void expectBitEqual(const Scene& scene, int w, int h) {
         size_t hits = 0;
         for (int32_t p : cpu.prim) hits += p >= 0;
         EXPECT_GT(hits, 0u) << scene.name;
-        EXPECT_EQ(differingPixels(cpu, gpu), 0u) << scene.name << " " << layoutName(layout);
+        EXPECT_EQ(differingPixels(cpu, gpu), 0u) << scene.name << " " << layout.name;
     }
 }
 
@@ -98,14 +98,14 @@ TEST(CudaBackend, TraceEqualsOpenMp) {
         float r[8] = {o.x, o.y, o.z, d.x, d.y, d.z, 0.0f, INFINITY};
         std::memcpy(&rays[8 * i], r, sizeof r);
     }
-    for (Layout layout : {Layout::Exhaustive, Layout::Linear, Layout::Hash}) {
+    for (const LayoutDesc& layout : layouts()) {
         BuiltScene b = buildScene(scene, layout, {});
         std::vector<float> tc(n), tg(n);
         std::vector<int32_t> pc(n), pg(n);
         traceCpu(b, {rays.data(), tc.data(), pc.data(), n});
         traceCuda(b, {rays.data(), tg.data(), pg.data(), n});
-        EXPECT_EQ(std::memcmp(tc.data(), tg.data(), n * sizeof(float)), 0) << layoutName(layout);
-        EXPECT_EQ(pc, pg) << layoutName(layout);
+        EXPECT_EQ(std::memcmp(tc.data(), tg.data(), n * sizeof(float)), 0) << layout.name;
+        EXPECT_EQ(pc, pg) << layout.name;
     }
 }
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/octree/accel.h"
+#include "core/octree/built_scene.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
@@ -31,17 +31,20 @@ struct CpuTracers {
     const oct::Octree* canonical = nullptr;
 };
 
-inline CpuTracers cpuTracers(const oct::Scene& scene,
-                             const std::vector<oct::Layout>& layouts = {
-                                 oct::Layout::Exhaustive, oct::Layout::Linear, oct::Layout::Hash}) {
+// The named layouts (default: every layout of the registry) on the CPU.
+inline CpuTracers cpuTracers(const oct::Scene& scene, const std::vector<std::string>& names = {}) {
     CpuTracers t;
-    for (oct::Layout l : layouts) {
+    std::vector<const oct::LayoutDesc*> chosen;
+    for (const std::string& n : names) chosen.push_back(&oct::findLayout(n));
+    if (names.empty())
+        for (const oct::LayoutDesc& l : oct::layouts()) chosen.push_back(&l);
+    for (const oct::LayoutDesc* l : chosen) {
         t.built.push_back(
-            std::make_unique<oct::BuiltScene>(oct::buildScene(scene, l, oct::LayoutOptions{})));
+            std::make_unique<oct::BuiltScene>(oct::buildScene(scene, *l, oct::LayoutOptions{})));
         const oct::BuiltScene* bs = t.built.back().get();
-        if (l != oct::Layout::Exhaustive) t.canonical = &bs->tree;
+        if (bs->tree) t.canonical = bs->tree.get();
         t.tracers.push_back(
-            {oct::layoutName(l), "cpu",
+            {l->name, "cpu",
              [bs](const oct::FrameParams& p, oct::Film& f) { oct::renderCpu(p, *bs, f); },
              [bs](oct::RayBatchView b) { oct::traceCpu(*bs, b); }});
     }

@@ -11,7 +11,7 @@ namespace {
 
 TEST(Report, JsonHasThePlainFields) {
     Scene scene = loadScene(octtest::meshPath("cube_binary.ply"));
-    auto t = octtest::cpuTracers(scene, {Layout::Linear});
+    auto t = octtest::cpuTracers(scene, {"linear"});
     ValidationReport rep =
         validateScene(scene, t.tracers, t.canonical, octtest::smallOptions(16, 300));
     nlohmann::json j = toJson(rep);

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <map>
 
-#include "core/octree/layouts.h"
+#include "core/octree/built_scene.h"
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
 #include "validation/diff_image.h"

@@ -1,0 +1,61 @@
+// Exhaustive tracing, the paper's baseline: every ray against every primitive, no structure.
+#pragma once
+
+#include <cstdio>
+#include <type_traits>
+
+#include "core/geometry/primitives_view.h"
+#include "core/octree/layout.h"
+
+namespace oct {
+
+struct ExhaustiveView {
+    PrimitivesView prims;
+};
+static_assert(std::is_trivially_copyable<ExhaustiveView>::value, "views are passed by value");
+
+OCT_HD inline Hit closestHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+    PreparedRay q = prepareRay(r);
+    Hit best = initialHit(r);
+    for (uint32_t i = 0; i < v.prims.count; ++i) considerPrimitive(v.prims, i, q, best, cost);
+    return finishHit(best);
+}
+
+OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+    PreparedRay q = prepareRay(r);
+    for (uint32_t i = 0; i < v.prims.count; ++i) {
+        float t;
+        ++cost.primsTested;
+        if (intersectPrimitive(v.prims, i, q, r.tmax, t)) return true;
+    }
+    return false;
+}
+
+inline ExhaustiveView exhaustiveView(PrimitivesView prims) { return {prims}; }
+
+struct ExhaustiveLayout {
+    static constexpr const char* kName = "exhaustive";
+    static constexpr const char* kSummary =
+        "every ray against every primitive (the paper's baseline; no structure)";
+    static constexpr bool kUsesOctree = false;
+    using View = ExhaustiveView;
+
+    static LayoutStorage convert(const std::shared_ptr<const Octree>&, const LayoutOptions&) {
+        return {};
+    }
+    static LayoutReport report(const Octree& tree, const LayoutOptions&) {
+        const uint64_t primBytes =
+            uint64_t(tree.primitiveCount) *
+            (tree.kind == PrimKind::Triangles ? sizeof(Triangle) : sizeof(Sphere));
+        LayoutReport r;
+        r.facts = {countFact("primitive_bytes", primBytes)};
+        char line[96];
+        std::snprintf(line, sizeof line, "%.2f MiB of primitives, no tree",
+                      double(primBytes) / 1048576.0);
+        r.summary = line;
+        return r;
+    }
+    static View view(const LayoutArrays&, PrimitivesView prims) { return {prims}; }
+};
+
+}  // namespace oct

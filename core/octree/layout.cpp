@@ -1,0 +1,12 @@
+#include "core/octree/layout.h"
+
+#include <limits>
+
+namespace oct {
+
+std::string mibText(uint64_t bytes) {
+    if (bytes == std::numeric_limits<uint64_t>::max()) return "more than 2^64 bytes";
+    return std::to_string(bytes / (1024 * 1024)) + " MiB (" + std::to_string(bytes) + " bytes)";
+}
+
+}  // namespace oct

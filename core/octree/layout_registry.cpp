@@ -1,0 +1,36 @@
+#include "core/octree/layout_registry.h"
+
+namespace oct {
+namespace {
+
+template <class L>
+LayoutDesc describe(int index) {
+    return {index, L::kName, L::kSummary, L::kUsesOctree, &L::convert, &L::report};
+}
+
+template <class... L>
+std::vector<LayoutDesc> describeAll(LayoutList<L...>) {
+    int i = 0;
+    return {describe<L>(i++)...};
+}
+
+}  // namespace
+
+const std::vector<LayoutDesc>& layouts() {
+    static const std::vector<LayoutDesc> all = describeAll(Layouts{});
+    return all;
+}
+
+std::string layoutNames() {
+    std::string s;
+    for (const LayoutDesc& d : layouts()) s += (s.empty() ? "" : ", ") + std::string(d.name);
+    return s;
+}
+
+const LayoutDesc& findLayout(const std::string& name) {
+    for (const LayoutDesc& d : layouts())
+        if (name == d.name) return d;
+    throw OctreeError("unknown --accel '" + name + "': use " + layoutNames());
+}
+
+}  // namespace oct

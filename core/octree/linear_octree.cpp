@@ -1,0 +1,99 @@
+#include "core/octree/linear_octree.h"
+
+#include <chrono>
+#include <cstdio>
+#include <limits>
+#include <new>
+#include <string>
+
+#include "core/octree/morton.h"
+
+namespace oct {
+
+uint64_t linearNodeCount(int depth) {
+    // (8^(d+1) - 1) / 7 = 1 + 8 + ... + 8^d; past d = 20 it exceeds 64 bits.
+    if (depth < 0) return 0;
+    if (depth > 20) return std::numeric_limits<uint64_t>::max();
+    uint64_t total = 0, levelSize = 1;
+    for (int d = 0; d <= depth; ++d, levelSize *= 8) total += levelSize;
+    return total;
+}
+
+uint64_t linearBytes(int depth) {
+    uint64_t n = linearNodeCount(depth);
+    if (n > std::numeric_limits<uint64_t>::max() / sizeof(OctreeNode))
+        return std::numeric_limits<uint64_t>::max();
+    return n * sizeof(OctreeNode);
+}
+
+namespace {
+
+OctreeNode invalidNode() {
+    OctreeNode n{};
+    n.type = static_cast<uint8_t>(NodeType::Invalid);
+    return n;
+}
+
+// The linear layout's storage: its array, and the canonical tree whose leaf index list it
+// shares.
+struct LinearStorage {
+    std::shared_ptr<const Octree> tree;
+    LinearOctree lin;
+};
+
+uint64_t saturatingAdd(uint64_t a, uint64_t b) {
+    return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max()
+                                                        : a + b;
+}
+
+}  // namespace
+
+LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
+    uint64_t bytes = linearBytes(tree.depth);
+    if (bytes > budgetBytes)
+        throw OctreeError("the linear octree of depth " + std::to_string(tree.depth) + " needs " +
+                          mibText(bytes) + ", over the budget of " + mibText(budgetBytes) +
+                          ": lower --max-depth, raise --max-prims, or raise --linear-budget");
+    LinearOctree lin;
+    try {
+        lin.nodes.assign(linearNodeCount(tree.depth), invalidNode());
+    } catch (const std::bad_alloc&) {
+        throw OctreeError("cannot allocate the linear octree (" + mibText(bytes) +
+                          "): lower --max-depth or --linear-budget");
+    }
+    // The canonical tree is breadth first; each node's linear position follows from its key.
+    for (const OctreeNode& n : tree.nodes) lin.nodes[linearIndexOfKey(n.key)] = n;
+    return lin;
+}
+
+LinearOctreeView linearView(const LinearOctree& lin, const Octree& tree, PrimitivesView prims) {
+    return {lin.nodes.data(), lin.nodes.size(), tree.primIndices.data(), prims};
+}
+
+LayoutStorage LinearLayout::convert(const std::shared_ptr<const Octree>& tree,
+                                    const LayoutOptions& o) {
+    auto owner = std::make_shared<LinearStorage>();
+    owner->tree = tree;
+    owner->lin = buildLinear(*tree, o.linearBudget);
+    LayoutStorage s;
+    s.arrays.arrays[0] = layoutArray(owner->lin.nodes);
+    s.arrays.arrays[1] = layoutArray(tree->primIndices);
+    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes;
+    s.owner = std::move(owner);
+    return s;
+}
+
+LayoutReport LinearLayout::report(const Octree& tree, const LayoutOptions&) {
+    const uint64_t indexBytes = tree.primIndices.size() * sizeof(uint32_t);
+    LayoutReport r;
+    r.bytes = saturatingAdd(linearBytes(tree.depth), indexBytes);
+    r.facts = {countFact("nodes", linearNodeCount(tree.depth)),
+               countFact("node_bytes", linearBytes(tree.depth)), countFact("bytes", r.bytes)};
+    char line[128];
+    std::snprintf(line, sizeof line, "%llu nodes, %.2f MiB (incl. leaf index array)",
+                  (unsigned long long)linearNodeCount(tree.depth), double(r.bytes) / 1048576.0);
+    r.summary = line;
+    return r;
+}
+
+}  // namespace oct

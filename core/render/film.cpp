@@ -1,0 +1,20 @@
+#include "core/render/film.h"
+
+namespace oct {
+
+Film::Film(int w, int h)
+    : width(w),
+      height(h),
+      rgb(size_t(w) * size_t(h) * 3),
+      t(size_t(w) * size_t(h)),
+      prim(size_t(w) * size_t(h)),
+      nodes(size_t(w) * size_t(h)),
+      primsTested(size_t(w) * size_t(h)),
+      shadow(size_t(w) * size_t(h)) {}
+
+FilmView Film::view() {
+    return {rgb.data(),         t.data(),      prim.data(), nodes.data(),
+            primsTested.data(), shadow.data(), width,       height};
+}
+
+}  // namespace oct

@@ -1,0 +1,45 @@
+#include "cpu_ref/cpu_backend.h"
+
+#include "cpu_ref/render_cpu.h"
+
+namespace oct {
+namespace {
+
+class CpuTracer : public SceneTracer {
+public:
+    explicit CpuTracer(const BuiltScene& scene) : scene_(scene) {}
+    double prepareSeconds() const override { return 0.0; }
+    std::vector<double> render(const FrameParams& frame, Film& film, int warmup,
+                               int repeats) override {
+        film = Film(frame.width, frame.height);
+        const FilmView fv = film.view();
+        const PrimitivesView prims = scene_.prims();
+        return timeFrames(warmup, repeats, [&] {
+            scene_.visit([&](const auto& view) { renderFrameCpu(frame, view, prims, fv); });
+        });
+    }
+    double trace(RayBatchView batch) override { return traceCpu(scene_, batch); }
+
+private:
+    const BuiltScene& scene_;
+};
+
+bool alwaysAvailable(std::string& why) {
+    why = "OpenMP on the host";
+    return true;
+}
+
+std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
+    return std::make_unique<CpuTracer>(scene);
+}
+
+}  // namespace
+
+BackendDesc cpuBackend() {
+    return {"cpu",   "the core kernel on the host, OpenMP over pixels or rays",
+            true,    nullptr,
+            false,   &alwaysAvailable,
+            &prepare};
+}
+
+}  // namespace oct

@@ -1,0 +1,10 @@
+// The OpenMP backend: our layouts, traced by the core kernel in an OpenMP loop.
+#pragma once
+
+#include "backends/backend.h"
+
+namespace oct {
+
+BackendDesc cpuBackend();
+
+}  // namespace oct

@@ -1,0 +1,41 @@
+#include "cpu_ref/embree_backend.h"
+
+#include "cpu_ref/render_cpu.h"
+
+namespace oct {
+
+EmbreeSceneTracer::EmbreeSceneTracer(const BuiltScene& scene)
+    : prims_(scene.prims()), embree_(*scene.scene) {}
+
+std::vector<double> EmbreeSceneTracer::render(const FrameParams& frame, Film& film, int warmup,
+                                              int repeats) {
+    film = Film(frame.width, frame.height);
+    const FilmView fv = film.view();
+    return timeFrames(warmup, repeats, [&] { renderFrameCpu(frame, embree_.accel(), prims_, fv); });
+}
+
+double EmbreeSceneTracer::trace(RayBatchView batch) {
+    return timeFrames(0, 1, [&] { traceRaysCpu(embree_.accel(), batch); })[0];
+}
+
+namespace {
+
+bool alwaysAvailable(std::string& why) {
+    why = "Embree on the host";
+    return true;
+}
+
+std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
+    return std::make_unique<EmbreeSceneTracer>(scene);
+}
+
+}  // namespace
+
+BackendDesc embreeBackend() {
+    return {"embree", "ground truth: Embree's robust BVH answers the kernel's hit queries",
+            false,    "embree-bvh",
+            false,    &alwaysAvailable,
+            &prepare};
+}
+
+}  // namespace oct

@@ -1,0 +1,28 @@
+// The Embree backend: ground truth. Embree builds its own BVH (robust mode) over the scene and
+// answers the kernel's hit queries; shading is the core kernel's.
+#pragma once
+
+#include "backends/backend.h"
+#include "cpu_ref/embree_tracer.h"
+
+namespace oct {
+
+BackendDesc embreeBackend();
+
+// The backend's tracer, public so that validation can also ask Embree single occlusion queries
+// (embree().accel() with anyHit) on the BVH it rendered the reference with.
+class EmbreeSceneTracer : public SceneTracer {
+public:
+    explicit EmbreeSceneTracer(const BuiltScene& scene);
+    double prepareSeconds() const override { return embree_.buildSeconds(); }
+    std::vector<double> render(const FrameParams& frame, Film& film, int warmup = 0,
+                               int repeats = 1) override;
+    double trace(RayBatchView batch) override;
+    const EmbreeTracer& embree() const { return embree_; }
+
+private:
+    PrimitivesView prims_;
+    EmbreeTracer embree_;
+};
+
+}  // namespace oct
