@@ -184,6 +184,7 @@ int runCli(int argc, char** argv) {
     registerTrace(app);
     registerValidate(app);
     registerBench(app);
+    registerList(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

@@ -88,5 +88,6 @@ void registerRender(CLI::App& app);
 void registerTrace(CLI::App& app);
 void registerValidate(CLI::App& app);
 void registerBench(CLI::App& app);
+void registerList(CLI::App& app);
 
 }  // namespace oct

@@ -23,8 +23,6 @@ FLOAT_FIELDS = {
     "prims_per_pixel", "nodes_per_ray", "prims_per_ray",
 }
 
-LAYOUTS = ["exhaustive", "linear", "hash"]
-OCTREES = ["linear", "hash"]
 EMBREE = "embree-bvh"
 
 
@@ -47,6 +45,22 @@ class Run:
         if os.path.exists(micro_path):
             with open(micro_path) as f:
                 self.micro = json.load(f)
+
+    def layouts(self):
+        """The layouts this run measured, in the order octrace bench ran them (its registry's)."""
+        named = self.config.get("layouts")
+        if named:
+            return list(named)
+        seen = []
+        for r in self.rows:
+            if r["layout"] not in (EMBREE, "-") and r["backend"] != "embree" and r["layout"] not in seen:
+                seen.append(r["layout"])
+        return seen
+
+    def octrees(self):
+        """The measured layouts converted from the octree: rows that report octree nodes."""
+        tree = {r["layout"] for r in self.rows if r.get("octree_nodes") is not None}
+        return [l for l in self.layouts() if l in tree]
 
     def backends(self):
         """Our backends present in the rows (cpu, cuda), in a fixed order."""

@@ -66,7 +66,7 @@ def claim_crossover(run, backend):
     if not exh:
         return ["- No exhaustive case was measured on %s, so no crossover can be placed." %
                 backend]
-    for layout in bd.OCTREES:
+    for layout in run.octrees():
         pts = [(n, t) for n, t, _, _ in bd.series(run, layout, backend)]
         if not pts:
             continue
@@ -97,7 +97,7 @@ def claim_crossover(run, backend):
         lines.append("- No octree case was measured on %s, so no crossover can be placed." %
                      backend)
     # How far apart they end up.
-    for layout in bd.OCTREES:
+    for layout in run.octrees():
         pts = dict((n, t) for n, t, _, _ in bd.series(run, layout, backend))
         common = sorted(set(pts) & set(dict(exh)))
         if common:
@@ -203,21 +203,21 @@ def clouds_table(run, backend):
     if not sizes:
         return None
     embree = backend == "cpu" and run.has_embree()
-    header = ["N", "depth"] + ["%s ms" % l for l in bd.LAYOUTS]
+    header = ["N", "depth"] + ["%s ms" % l for l in run.layouts()]
     if embree:
-        header += ["Embree ms", "linear ×Embree", "hash ×Embree"]
+        header += ["Embree ms"] + ["%s ×Embree" % l for l in run.octrees()]
     header += ["hash / linear", "exhaustive / linear", "Mrays/s (linear)"]
     rows = []
     for n in sizes:
-        r = {l: run.cloud_row(n, l, backend) for l in bd.LAYOUTS}
+        r = {l: run.cloud_row(n, l, backend) for l in run.layouts()}
         any_row = next((x for x in r.values() if x), None) or run.cloud_row(n, bd.EMBREE,
                                                                             "embree")
         line = [bd.human_count(n), any_row["grid_depth"] if any_row else "-"]
-        line += [cell_time(r[l]) for l in bd.LAYOUTS]
+        line += [cell_time(r[l]) for l in run.layouts()]
         if embree:
             e = run.cloud_row(n, bd.EMBREE, "embree")
             line += [cell_time(e)]
-            line += [fmt_ratio(r[l]["ratio_to_embree"]) if r[l] else "-" for l in bd.OCTREES]
+            line += [fmt_ratio(r[l]["ratio_to_embree"]) if r[l] else "-" for l in run.octrees()]
 
         def ratio(a, b):
             if r[a] and r[b] and r[a]["status"] == "ok" and r[b]["status"] == "ok":
@@ -236,19 +236,19 @@ def meshes_table(run, backend):
     if not meshes:
         return None
     embree = backend == "cpu" and run.has_embree()
-    header = ["mesh", "triangles"] + ["%s ms" % l for l in bd.LAYOUTS]
+    header = ["mesh", "triangles"] + ["%s ms" % l for l in run.layouts()]
     if embree:
-        header += ["Embree ms", "linear ×Embree", "hash ×Embree"]
+        header += ["Embree ms"] + ["%s ×Embree" % l for l in run.octrees()]
     header += ["hash / linear", "Mrays/s (linear)"]
     rows = []
     for m in meshes:
-        r = {l: run.find(m, l, backend) for l in bd.LAYOUTS}
+        r = {l: run.find(m, l, backend) for l in run.layouts()}
         any_row = next((x for x in run.rows if x["scene"] == m), None)
         line = [m, "{:,}".format(any_row["primitives"] or 0)]
-        line += [cell_time(r[l]) for l in bd.LAYOUTS]
+        line += [cell_time(r[l]) for l in run.layouts()]
         if embree:
             line += [cell_time(run.find(m, bd.EMBREE, "embree"))]
-            line += [fmt_ratio(r[l]["ratio_to_embree"]) if r[l] else "-" for l in bd.OCTREES]
+            line += [fmt_ratio(r[l]["ratio_to_embree"]) if r[l] else "-" for l in run.octrees()]
         ok = lambda x: x and x["status"] == "ok"  # noqa: E731
         line += [fmt_ratio(r["hash"]["frame_s_median"] / r["linear"]["frame_s_median"])
                  if ok(r["hash"]) and ok(r["linear"]) else "-"]
@@ -295,7 +295,7 @@ def memory_table(run):
         rs = [r for r in run.rows if r["scene_type"] == "cloud" and r["n"] == n]
         tree = next((r for r in rs if r["octree_nodes"] is not None), None)
         cells = []
-        for layout in bd.OCTREES:
+        for layout in run.octrees():
             r = next((r for r in rs if r["layout"] == layout and r["layout_bytes"]), None)
             s = next((r for r in rs if r["layout"] == layout and r["status"] == "skipped"), None)
             cells.append(bd.human_bytes(r["layout_bytes"]) if r else
@@ -311,7 +311,7 @@ def cost_table(run, backend):
     rows = []
     for n in sizes:
         line = [bd.human_count(n)]
-        for layout in bd.LAYOUTS:
+        for layout in run.layouts():
             r = run.cloud_row(n, layout, backend)
             if r and r["status"] == "ok":
                 line.append("%.1f / %.1f" % (r["nodes_per_pixel"] or 0, r["prims_per_pixel"]))
@@ -320,13 +320,13 @@ def cost_table(run, backend):
         rows.append(line)
     if not rows:
         return None
-    return table(["N"] + ["%s nodes / prims" % l for l in bd.LAYOUTS], rows)
+    return table(["N"] + ["%s nodes / prims" % l for l in run.layouts()], rows)
 
 
 def build_table(run, backend):
     rows = []
     for r in run.rows:
-        if r["backend"] != backend or r["layout"] not in bd.OCTREES or r["tree_build_s"] is None:
+        if r["backend"] != backend or r["layout"] not in run.octrees() or r["tree_build_s"] is None:
             continue
         rows.append([r["scene"], r["layout"], "%.3f" % r["tree_build_s"],
                      "%.3f" % r["convert_s"] if r["convert_s"] is not None else "-",

@@ -65,7 +65,7 @@ def finish(fig, ax, run, backend, path, title):
 
 
 def layouts_for(run, backend):
-    out = [l for l in bd.LAYOUTS if bd.series(run, l, backend)]
+    out = [l for l in run.layouts() if bd.series(run, l, backend)]
     if backend == "cpu" and bd.series(run, bd.EMBREE, "embree"):
         out.append(bd.EMBREE)
     return out
@@ -140,7 +140,7 @@ def plot_crossover(run, backend, path):
     ax.plot([p[0] for p in exh], [p[1] * 1e3 for p in exh], label=LABEL["exhaustive"],
             **STYLE["exhaustive"])
     notes = []
-    for layout in bd.OCTREES:
+    for layout in run.octrees():
         pts = bd.series(run, layout, backend)
         if not pts:
             continue
@@ -171,7 +171,7 @@ def plot_meshes(run, backend, path):
     meshes = run.meshes()
     if not meshes:
         return False
-    layouts = [l for l in bd.LAYOUTS if run.select(scene_type="mesh", layout=l, backend=backend)]
+    layouts = [l for l in run.layouts() if run.select(scene_type="mesh", layout=l, backend=backend)]
     if backend == "cpu" and run.has_embree():
         layouts.append(bd.EMBREE)
     if not layouts:
@@ -210,7 +210,7 @@ def plot_meshes(run, backend, path):
 def plot_memory(run, path):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     drawn = False
-    for layout in bd.OCTREES:
+    for layout in run.octrees():
         # Bytes do not depend on the backend: take any row that built the layout.
         pts = {}
         for r in run.select(scene_type="cloud", layout=layout):
@@ -241,7 +241,7 @@ def plot_cost(run, backend, path):
     drawn = False
     for key, ax, title in (("nodes_per_pixel", axes[0], "nodes visited per pixel"),
                            ("prims_per_pixel", axes[1], "primitives tested per pixel")):
-        for layout in bd.LAYOUTS:
+        for layout in run.layouts():
             rows = sorted(run.select(scene_type="cloud", layout=layout, backend=backend,
                                      status="ok"), key=lambda r: r["n"])
             pts = [(r["n"], r[key]) for r in rows if r[key]]

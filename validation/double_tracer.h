@@ -3,7 +3,8 @@
 // routines. Besides hit and distance it says how touchy a ray/primitive configuration is: a
 // ray that passes within the edge tolerance of a triangle's boundary, grazes its plane, meets
 // a degenerate triangle, is tangent to a sphere or ends on the primitive is one whose answer
-// two correct float tracers may legitimately disagree on (DESIGN.md, the validation policy).
+// two correct float tracers may legitimately disagree on (docs/VALIDATION.md, the per-pixel
+// policy).
 #pragma once
 
 #include <cmath>

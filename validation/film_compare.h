@@ -1,6 +1,6 @@
-// Per-pixel comparison of two tracers' answers by the policy of DESIGN.md: both miss -> agree;
-// both hit with |dt| <= tolerance * scene extent -> agree (another primitive at the same t is a
-// tie, not an error); anything else is a mismatch. Mismatches are classified further by the
+// Per-pixel comparison of two tracers' answers by the policy of docs/VALIDATION.md: both miss ->
+// agree; both hit with |dt| <= tolerance * scene extent -> agree (another primitive at the same t
+// is a tie, not an error); anything else is a mismatch. Mismatches are classified further by the
 // certification checks (validation/: `octrace validate` also rechecks each tie against the
 // primitive's distance to the hit point), this comparison only counts them.
 #pragma once

@@ -1,4 +1,4 @@
-// The per-ray policy of DESIGN.md ("Comparing hit distances"), for closest hits and for
+// The per-ray policy of docs/VALIDATION.md ("The per-pixel policy"), for closest hits and for
 // occlusion (shadow) queries: ours against a reference tracer (Embree), and on a mismatch a
 // recheck against the double-precision, brute-force truth of double_tracer.h.
 //

@@ -24,79 +24,22 @@
 #include <vector>
 
 #include "tests/bad_manifest.h"
-
-extern char** environ;
+#include "tests/cli_harness.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kOctrace = std::string(OCT_BINARY_DIR) + "/octrace";
-
 using octtest::BadFile;
 using octtest::kBadDir;
+using octtest::RunResult;
 const auto readManifest = octtest::readBadManifest;
 
-struct RunResult {
-    bool timedOut = false;
-    int exitCode = -1;  // when it exited
-    int signal = 0;     // when a signal ended it
-    double seconds = 0;
-    std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// Runs octrace with args, stdout and stderr to files in dir, killing it after timeoutSeconds.
 RunResult runOctrace(const std::vector<std::string>& args, const fs::path& dir,
                      double timeoutSeconds = 20.0) {
-    static std::atomic<int> counter{0};
-    const std::string tag = std::to_string(counter++);
-    const std::string outPath = (dir / ("stdout." + tag)).string();
-    const std::string errPath = (dir / ("stderr." + tag)).string();
-    std::vector<std::string> argv = {kOctrace};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::vector<char*> cargv;
-    for (std::string& a : argv) cargv.push_back(a.data());
-    cargv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
-    RunResult r;
-    pid_t pid = 0;
-    const auto start = std::chrono::steady_clock::now();
-    const int rc = posix_spawn(&pid, kOctrace.c_str(), &actions, nullptr, cargv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-        r.err = "posix_spawn failed: " + std::string(std::strerror(rc));
-        return r;
-    }
-    int status = 0;
-    for (;;) {
-        const pid_t done = waitpid(pid, &status, WNOHANG);
-        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (done == pid) break;
-        if (r.seconds > timeoutSeconds) {
-            kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
-            r.timedOut = true;
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
-    if (!r.timedOut && WIFEXITED(status)) r.exitCode = WEXITSTATUS(status);
-    if (!r.timedOut && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-    r.out = slurp(outPath);
-    r.err = slurp(errPath);
-    return r;
+    octtest::RunOptions opt;
+    opt.timeoutSeconds = timeoutSeconds;
+    return octtest::runOctrace(args, dir, opt);
 }
 
 class CliDir : public ::testing::Test {
@@ -118,7 +61,7 @@ protected:
 void expectOneLineError(const RunResult& r, const std::string& path, const std::string& text) {
     ASSERT_FALSE(r.timedOut) << "killed after " << r.seconds << " s";
     ASSERT_EQ(r.signal, 0) << "ended by signal " << r.signal << "; stderr: " << r.err;
-    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_EQ(r.status, 1) << r.err;
     EXPECT_EQ(r.err.rfind("octrace: error: ", 0), 0u) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
     EXPECT_NE(r.err.find(path), std::string::npos) << "names the file: " << r.err;
@@ -136,7 +79,7 @@ void checkCorpusFile(const BadFile& e, const fs::path& dir) {
     }
     ASSERT_FALSE(r.timedOut);
     ASSERT_EQ(r.signal, 0) << r.err;
-    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.err, "");
     EXPECT_NE(r.out.find("dropped      " + std::to_string(e.totalDropped()) + " ("),
               std::string::npos)
@@ -177,7 +120,7 @@ TEST_F(BadInputCli, FailedRenderLeavesNoPartialOrReplacedOutput) {
                               "--size", "16x16", "--backend", "cpu"},
                              dir_);
     expectOneLineError(r, bad, "truncated");
-    EXPECT_EQ(slurp(png.string()), "previous image");
+    EXPECT_EQ(octtest::readFile(png), "previous image");
     EXPECT_FALSE(fs::exists(depth));
     size_t entries = 0;
     for (const auto& entry : fs::directory_iterator(png.parent_path())) {
@@ -189,8 +132,8 @@ TEST_F(BadInputCli, FailedRenderLeavesNoPartialOrReplacedOutput) {
     r = runOctrace({"render", std::string(OCT_SOURCE_DIR) + "/meshes/cube_binary.ply", "--out",
                     png.string(), "--size", "16x16", "--backend", "cpu"},
                    dir_);
-    ASSERT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(slurp(png.string()).substr(1, 3), "PNG");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(octtest::readFile(png).substr(1, 3), "PNG");
 }
 
 }  // namespace

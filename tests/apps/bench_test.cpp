@@ -15,12 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "tests/cli_harness.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-const std::string kOctrace = std::string(OCT_BINARY_DIR) + "/octrace";
 const std::string kMeshes = std::string(OCT_SOURCE_DIR) + "/meshes";
 
 // Every field a result row carries, in the order of the CSV header.
@@ -43,15 +44,13 @@ fs::path freshDir(const std::string& name) {
     return dir;
 }
 
-// Runs octrace with the arguments; returns the exit status, the output in `log`.
+// Runs octrace with the arguments; returns the exit status, stdout and stderr in `log` (also
+// written to logFile, for a look after a failure).
 int runOctrace(const std::string& args, const fs::path& logFile, std::string& log) {
-    std::string cmd = "'" + kOctrace + "' " + args + " > '" + logFile.string() + "' 2>&1";
-    int status = std::system(cmd.c_str());
-    std::ifstream in(logFile);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    log = ss.str();
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    octtest::RunResult r = octtest::runOctrace(args, logFile.parent_path() / "capture");
+    log = r.out + r.err;
+    octtest::writeFile(logFile, log);
+    return r.status;
 }
 
 json readJson(const fs::path& p) {

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <set>
@@ -30,6 +31,7 @@
 #include "core/scene/load_scene.h"
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
+#include "tests/cli_harness.h"
 #include "validation/film_compare.h"
 
 namespace oct {
@@ -37,7 +39,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kBinary = OCT_BINARY_DIR "/octrace";
 const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
 const std::string kCornell = kMeshes + "/cornell_box.obj";
 const std::string kTeapot = kMeshes + "/teapot.obj";
@@ -45,56 +46,29 @@ const std::string kTeapot = kMeshes + "/teapot.obj";
 // per run, which costs a second per invocation and tests nothing more here.
 const std::string kShallow = " --max-depth 5";
 
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using octtest::isOneLineError;
+using octtest::quote;
+using octtest::readFile;
+using octtest::RunResult;
+using octtest::show;
 
 void writeFile(const fs::path& p, const std::string& bytes) {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    ASSERT_TRUE(out.good()) << "cannot write " << p;
+    ASSERT_TRUE(octtest::writeFile(p, bytes)) << "cannot write " << p;
 }
-
-struct RunResult {
-    int status = -1;  // exit status, or -1 when the process did not exit normally
-    std::string out, err;
-};
 
 // Each test gets its own folder: `work` holds the inputs and receives the outputs; the
 // captured stdout/stderr go elsewhere so that `work` lists exactly what octrace left behind.
 class Cli : public ::testing::Test {
 protected:
     void SetUp() override {
-        static int counter = 0;
-        root_ = fs::temp_directory_path() / ("octrace_cli_test_" + std::to_string(::getpid()) +
-                                             "_" + std::to_string(++counter));
-        fs::remove_all(root_);
-        fs::create_directories(root_ / "work");
-        fs::create_directories(root_ / "capture");
-        work_ = root_ / "work";
+        root_ = std::make_unique<octtest::TempDir>("cli_test");
+        work_ = root_->path() / "work";
+        fs::create_directories(work_);
     }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(root_, ec);
-    }
+    void TearDown() override { root_.reset(); }
 
     RunResult run(const std::string& args) const {
-        fs::path out = root_ / "capture" / "stdout", err = root_ / "capture" / "stderr";
-        std::string cmd = quote(kBinary) + " " + args + " >" + quote(out.string()) + " 2>" +
-                          quote(err.string()) + " </dev/null";
-        int raw = std::system(cmd.c_str());
-        RunResult r;
-        r.status = (raw != -1 && WIFEXITED(raw)) ? WEXITSTATUS(raw) : -1;
-        r.out = readFile(out);
-        r.err = readFile(err);
-        return r;
+        return octtest::runOctrace(args, root_->path() / "capture");
     }
 
     std::string path(const std::string& name) const { return (work_ / name).string(); }
@@ -106,25 +80,9 @@ protected:
         return names;
     }
 
-    fs::path root_, work_;
+    std::unique_ptr<octtest::TempDir> root_;
+    fs::path work_;
 };
-
-std::string show(const RunResult& r) {
-    return "exit " + std::to_string(r.status) + "\n--- stdout ---\n" + r.out + "--- stderr ---\n" +
-           r.err;
-}
-
-// A failed run: non-zero exit, exactly one line on stderr, and it is octrace's error line.
-::testing::AssertionResult isOneLineError(const RunResult& r) {
-    if (r.status == 0) return ::testing::AssertionFailure() << "exit 0\n" << show(r);
-    if (r.status < 0) return ::testing::AssertionFailure() << "did not exit normally\n" << show(r);
-    size_t lines = size_t(std::count(r.err.begin(), r.err.end(), '\n'));
-    if (lines != 1 || r.err.back() != '\n')
-        return ::testing::AssertionFailure() << lines << " lines on stderr\n" << show(r);
-    if (r.err.rfind("octrace: error:", 0) != 0)
-        return ::testing::AssertionFailure() << "stderr does not start with the error\n" << show(r);
-    return ::testing::AssertionSuccess();
-}
 
 uint32_t bigEndian32(const std::string& s, size_t at) {
     return uint32_t(uint8_t(s[at])) << 24 | uint32_t(uint8_t(s[at + 1])) << 16 |
@@ -288,7 +246,7 @@ std::vector<float> makeRays(const Scene& scene, uint32_t n, uint64_t seed) {
 // 1.831830: Embree 1.831750, octrace 1.831796).
 constexpr double kMaxHitMissRate = 5e-4;
 constexpr double kMaxGrazingRate = 5e-4;
-// The policy's grazing threshold (DESIGN.md, "Comparing hit distances"): |cos(ray, normal)|.
+// The policy's grazing threshold (docs/VALIDATION.md, "The per-pixel policy"): |cos(ray, normal)|.
 constexpr double kGrazingCos = 1e-3;
 
 // A distance mismatch where both tracers report the same triangle and the ray meets its plane

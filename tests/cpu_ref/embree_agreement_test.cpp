@@ -1,6 +1,6 @@
 // The OpenMP backend against two independent references, frame by frame:
 //  - Embree (a different traversal and a different triangle/sphere test) per pixel, by the
-//    hit-distance policy of DESIGN.md (validation/film_compare.h);
+//    hit-distance policy of docs/VALIDATION.md (validation/film_compare.h);
 //  - exhaustive tracing with the same kernel: every layout must return bitwise the same t,
 //    primitive, shadow outcome and colour, because the primitive tests and the tie rule are
 //    shared and the octree only decides which primitives are tested.

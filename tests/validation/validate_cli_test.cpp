@@ -13,51 +13,27 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "tests/cli_harness.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kBinary = OCT_BINARY_DIR "/octrace";
 const std::string kCube = OCT_SOURCE_DIR "/meshes/cube_binary.ply";
 
-struct RunResult {
-    int status = -1;  // exit status, -1 when the process did not exit normally
-    std::string out, err;
-};
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-fs::path scratch(const std::string& name) {
-    static int counter = 0;
-    return fs::temp_directory_path() / ("octrace_validate_cli_" + std::to_string(::getpid()) + "_" +
-                                        std::to_string(++counter) + "_" + name);
-}
+using octtest::quote;
+using octtest::RunResult;
 
 RunResult runOctrace(const std::string& args) {
-    RunResult r;
-    fs::path err = scratch("stderr.txt");
-    std::string cmd = quote(kBinary) + " " + args + " 2>" + quote(err.string());
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-    int st = ::pclose(p);
-    r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    std::ifstream in(err, std::ios::binary);
-    r.err.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    fs::remove(err);
-    return r;
+    static octtest::TempDir capture("validate_cli");
+    return octtest::runOctrace(args, capture.path());
 }
 
 class ValidateCli : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!fs::exists(kBinary)) GTEST_SKIP() << "no " << kBinary << ": build target octrace";
+        if (!fs::exists(octtest::octraceBinary()))
+            GTEST_SKIP() << "no " << octtest::octraceBinary() << ": build target octrace";
     }
 };
 
@@ -75,11 +51,10 @@ TEST_F(ValidateCli, JsonOnStdoutIsTheOnlyThingThere) {
 }
 
 TEST_F(ValidateCli, Table1JsonOnStdoutIsTheOnlyThingThere) {
-    fs::path dir = scratch("meshes");
-    fs::create_directories(dir);
-    fs::copy_file(kCube, dir / "cube_binary.ply");
-    RunResult r = runOctrace("validate --table1 --meshes " + quote(dir.string()) + " --json -");
-    fs::remove_all(dir);
+    octtest::TempDir dir("validate_cli_meshes");
+    fs::copy_file(kCube, dir.path() / "cube_binary.ply");
+    RunResult r =
+        runOctrace("validate --table1 --meshes " + quote(dir.path().string()) + " --json -");
     ASSERT_EQ(r.status, 0) << r.err;
     nlohmann::json j;
     ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << "stdout is not JSON:\n" << r.out;

@@ -1,0 +1,211 @@
+// The one harness of the tests that run the real `octrace` binary as a user does: arguments as
+// a vector (no shell), stdin from /dev/null, stdout and stderr captured to files, a time limit
+// after which the process is killed, and the way it ended (exit status, signal, time-out). A
+// test can also send it a signal mid-run (SIGINT, SIGTERM) and check what it left behind.
+#pragma once
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace octtest {
+
+namespace fs = std::filesystem;
+
+inline const std::string& octraceBinary() {
+    static const std::string path = std::string(OCT_BINARY_DIR) + "/octrace";
+    return path;
+}
+
+inline std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+inline bool writeFile(const fs::path& p, const std::string& bytes) {
+    std::ofstream out(p, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), std::streamsize(bytes.size()));
+    return out.good();
+}
+
+// Single-quotes a word for a shell-style command string (splitWords undoes it).
+inline std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+// Splits "render 'a b.obj' --out x" into words: spaces separate, single quotes group, a
+// backslash outside quotes escapes the next character (what quote() produces, nothing more).
+inline std::vector<std::string> splitWords(const std::string& text) {
+    std::vector<std::string> words;
+    std::string w;
+    bool inWord = false, inQuote = false;
+    for (size_t i = 0; i < text.size(); ++i) {
+        char c = text[i];
+        if (inQuote) {
+            if (c == '\'')
+                inQuote = false;
+            else
+                w += c;
+        } else if (c == '\'') {
+            inQuote = inWord = true;
+        } else if (c == '\\' && i + 1 < text.size()) {
+            w += text[++i];
+            inWord = true;
+        } else if (c == ' ' || c == '\t' || c == '\n') {
+            if (inWord) words.push_back(w);
+            w.clear();
+            inWord = false;
+        } else {
+            w += c;
+            inWord = true;
+        }
+    }
+    if (inWord) words.push_back(w);
+    return words;
+}
+
+struct RunResult {
+    bool timedOut = false;
+    int status = -1;  // the exit status; -1 when the process did not exit normally
+    int signal = 0;   // when a signal ended it
+    double seconds = 0;
+    std::string out, err;
+};
+
+struct RunOptions {
+    double timeoutSeconds = 300.0;
+    std::string workingDir;  // empty: the test's own
+    // Called every 5 ms while the process runs, with its pid and the seconds so far; may send
+    // it a signal (the process is still reaped and reported as usual).
+    std::function<void(pid_t, double)> whileRunning;
+};
+
+// Runs octrace with `args`; stdout and stderr go to files in `captureDir` (created if needed).
+inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path& captureDir,
+                            const RunOptions& opt = {}) {
+    static std::atomic<int> counter{0};
+    fs::create_directories(captureDir);
+    const std::string tag = std::to_string(::getpid()) + "." + std::to_string(counter++);
+    const std::string outPath = (captureDir / ("stdout." + tag)).string();
+    const std::string errPath = (captureDir / ("stderr." + tag)).string();
+    std::vector<std::string> argv = {octraceBinary()};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::vector<char*> cargv;
+    for (std::string& a : argv) cargv.push_back(a.data());
+    cargv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
+                                     0644);
+    std::string oldDir;
+    if (!opt.workingDir.empty()) {
+        oldDir = fs::current_path().string();
+        fs::current_path(opt.workingDir);  // posix_spawn_file_actions_addchdir_np is glibc 2.29+
+    }
+    RunResult r;
+    pid_t pid = 0;
+    const auto start = std::chrono::steady_clock::now();
+    const int rc =
+        posix_spawn(&pid, octraceBinary().c_str(), &actions, nullptr, cargv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (!oldDir.empty()) fs::current_path(oldDir);
+    if (rc != 0) {
+        r.err = "posix_spawn failed: " + std::string(std::strerror(rc));
+        return r;
+    }
+    int status = 0;
+    for (;;) {
+        const pid_t done = waitpid(pid, &status, WNOHANG);
+        r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (done == pid) break;
+        if (r.seconds > opt.timeoutSeconds) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            r.timedOut = true;
+            break;
+        }
+        if (opt.whileRunning) opt.whileRunning(pid, r.seconds);
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!r.timedOut && WIFEXITED(status)) r.status = WEXITSTATUS(status);
+    if (!r.timedOut && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
+    r.out = readFile(outPath);
+    r.err = readFile(errPath);
+    fs::remove(outPath);
+    fs::remove(errPath);
+    return r;
+}
+
+// The same with a shell-style argument string (words split by splitWords).
+inline RunResult runOctrace(const std::string& args, const fs::path& captureDir,
+                            const RunOptions& opt = {}) {
+    return runOctrace(splitWords(args), captureDir, opt);
+}
+
+inline std::string show(const RunResult& r) {
+    std::string how = r.timedOut ? "killed after " + std::to_string(r.seconds) + " s"
+                      : r.signal ? "ended by signal " + std::to_string(r.signal)
+                                 : "exit " + std::to_string(r.status);
+    return how + "\n--- stdout ---\n" + r.out + "--- stderr ---\n" + r.err;
+}
+
+// A failed run as the CLI promises: a non-zero exit, exactly one line on stderr, and it is
+// octrace's error line.
+inline ::testing::AssertionResult isOneLineError(const RunResult& r) {
+    if (r.timedOut || r.signal)
+        return ::testing::AssertionFailure() << "did not exit normally\n" << show(r);
+    if (r.status == 0) return ::testing::AssertionFailure() << "exit 0\n" << show(r);
+    size_t lines = size_t(std::count(r.err.begin(), r.err.end(), '\n'));
+    if (lines != 1 || r.err.back() != '\n')
+        return ::testing::AssertionFailure() << lines << " lines on stderr\n" << show(r);
+    if (r.err.rfind("octrace: error:", 0) != 0)
+        return ::testing::AssertionFailure() << "stderr does not start with the error\n" << show(r);
+    return ::testing::AssertionSuccess();
+}
+
+// A fresh folder under the system's temporary folder, removed with everything in it.
+class TempDir {
+public:
+    explicit TempDir(const std::string& tag) {
+        static std::atomic<int> counter{0};
+        path_ = fs::temp_directory_path() / ("octrace_" + tag + "_" + std::to_string(::getpid()) +
+                                             "_" + std::to_string(counter++));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+    const fs::path& path() const { return path_; }
+    std::string str(const std::string& name) const { return (path_ / name).string(); }
+
+private:
+    fs::path path_;
+};
+
+}  // namespace octtest
