@@ -38,8 +38,17 @@ private:
     double buildSeconds_ = 0.0;
 };
 
-// Host-only overloads: Embree's query in place of our traversal. Embree counts no nodes.
+// Host-only overloads: Embree's query in place of our traversal. Embree counts no nodes and
+// reports no steps to an observer.
 Hit closestHit(const EmbreeAccel& a, const Ray& r, TraceCost& cost);
 bool anyHit(const EmbreeAccel& a, const Ray& r, TraceCost& cost);
+template <class Obs>
+Hit closestHit(const EmbreeAccel& a, const Ray& r, TraceCost& cost, Obs&) {
+    return closestHit(a, r, cost);
+}
+template <class Obs>
+bool anyHit(const EmbreeAccel& a, const Ray& r, TraceCost& cost, Obs&) {
+    return anyHit(a, r, cost);
+}
 
 }  // namespace oct

@@ -238,9 +238,10 @@ void BM_LinearChild(benchmark::State& state) {
     // barrier may take a memory operand, and no load was timed at all. The parent index wraps
     // with a compare, as in BM_HashLookup.
     size_t i = 0, k = 0;
+    NoObserver none;
     for (auto _ : state) {
         const OctreeNode* at = v.nodes + f.parents[i];
-        const OctreeNode* c = v.child(at, at->key, int(k++ & 7));
+        const OctreeNode* c = v.child(at, at->key, int(k++ & 7), none);
         if (++i == f.parents.size()) i = 0;
         uint8_t type = c->type;
         benchmark::DoNotOptimize(type);

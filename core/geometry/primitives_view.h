@@ -43,12 +43,16 @@ OCT_HD inline Hit initialHit(const Ray& r) { return {r.tmax, -1}; }
 OCT_HD inline Hit finishHit(Hit h) { return h.prim < 0 ? missHit() : h; }
 
 // Closest-hit update with the deterministic tie rule (equal t: lower primitive id wins), so
-// every layout reports the same primitive as exhaustive tracing for the same t.
+// every layout reports the same primitive as exhaustive tracing for the same t. `obs` sees the
+// test (traversal_observer.h; NoObserver compiles to nothing).
+template <class Obs>
 OCT_HD inline void considerPrimitive(const PrimitivesView& p, uint32_t i, const PreparedRay& q,
-                                     Hit& best, TraceCost& cost) {
+                                     Hit& best, TraceCost& cost, Obs& obs) {
     float t;
     ++cost.primsTested;
-    if (!intersectPrimitive(p, i, q, best.t, t)) return;
+    const bool hit = intersectPrimitive(p, i, q, best.t, t);
+    obs.primTested(i, hit, t);
+    if (!hit) return;
     if (best.prim < 0 || t < best.t || (t == best.t && static_cast<int32_t>(i) < best.prim)) {
         best.t = t;
         best.prim = static_cast<int32_t>(i);

@@ -6,6 +6,7 @@
 
 #include "core/geometry/primitives_view.h"
 #include "core/octree/layout.h"
+#include "core/octree/traversal_observer.h"
 
 namespace oct {
 
@@ -14,21 +15,34 @@ struct ExhaustiveView {
 };
 static_assert(std::is_trivially_copyable<ExhaustiveView>::value, "views are passed by value");
 
-OCT_HD inline Hit closestHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+template <class Obs>
+OCT_HD inline Hit closestHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost, Obs& obs) {
     PreparedRay q = prepareRay(r);
     Hit best = initialHit(r);
-    for (uint32_t i = 0; i < v.prims.count; ++i) considerPrimitive(v.prims, i, q, best, cost);
+    for (uint32_t i = 0; i < v.prims.count; ++i) considerPrimitive(v.prims, i, q, best, cost, obs);
     return finishHit(best);
 }
 
-OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+template <class Obs>
+OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost, Obs& obs) {
     PreparedRay q = prepareRay(r);
     for (uint32_t i = 0; i < v.prims.count; ++i) {
         float t;
         ++cost.primsTested;
-        if (intersectPrimitive(v.prims, i, q, r.tmax, t)) return true;
+        const bool hit = intersectPrimitive(v.prims, i, q, r.tmax, t);
+        obs.primTested(i, hit, t);
+        if (hit) return true;
     }
     return false;
+}
+
+OCT_HD inline Hit closestHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return closestHit(v, r, cost, none);
+}
+OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return anyHit(v, r, cost, none);
 }
 
 inline ExhaustiveView exhaustiveView(PrimitivesView prims) { return {prims}; }

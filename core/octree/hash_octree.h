@@ -16,35 +16,45 @@ namespace oct {
 
 // Bucket b occupies slots[b*B, b*B + B) and an unused slot has key 0 (no valid key is 0).
 struct HashOctreeView {
-    const OctreeNode* slots;      // 8 bytes
-    uint64_t bucketCount;         // 8 bytes: m
-    uint32_t bucketSlots;         // 4 bytes: B (+4 padding)
-    const uint32_t* primIndices;  // 8 bytes: the global leaf index array
-    PrimitivesView prims;         // 24 bytes
+    static constexpr bool kNodeRecords = true;  // traversed by traverseOctree (traversal.h)
+    const OctreeNode* slots;                    // 8 bytes
+    uint64_t bucketCount;                       // 8 bytes: m
+    uint32_t bucketSlots;                       // 4 bytes: B (+4 padding)
+    const uint32_t* primIndices;                // 8 bytes: the global leaf index array
+    PrimitivesView prims;                       // 24 bytes
 
-    OCT_HD const OctreeNode* find(uint64_t key) const {
-        const OctreeNode* bucket = slots + (key % bucketCount) * bucketSlots;
+    template <class Obs>
+    OCT_HD const OctreeNode* find(uint64_t key, Obs& obs) const {
+        const uint64_t b = key % bucketCount;
+        const OctreeNode* bucket = slots + b * bucketSlots;
         for (uint32_t s = 0; s < bucketSlots; ++s) {
             const uint64_t k = loadReadOnly(&bucket[s].key);
+            obs.hashProbe(key, b, s, k);
             if (k == key) return bucket + s;
             if (k == 0) return nullptr;  // slots fill front to back
         }
         return nullptr;
     }
-    OCT_HD const OctreeNode* root() const { return find(kRootKey); }
+    OCT_HD const OctreeNode* find(uint64_t key) const {
+        NoObserver none;
+        return find(key, none);
+    }
+    OCT_HD const OctreeNode* root() const {
+        NoObserver none;
+        return root(none);
+    }
+    template <class Obs>
+    OCT_HD const OctreeNode* root(Obs& obs) const {
+        return find(kRootKey, obs);
+    }
     // The child of the internal node with Morton key `key` (its address is not needed here).
-    OCT_HD const OctreeNode* child(const OctreeNode* /*at*/, uint64_t key, int octant) const {
-        return find(childKey(key, octant));
+    template <class Obs>
+    OCT_HD const OctreeNode* child(const OctreeNode* /*at*/, uint64_t key, int octant,
+                                   Obs& obs) const {
+        return find(childKey(key, octant), obs);
     }
 };
 static_assert(std::is_trivially_copyable<HashOctreeView>::value, "views are passed by value");
-
-OCT_HD inline Hit closestHit(const HashOctreeView& v, const Ray& r, TraceCost& cost) {
-    return traverseOctree<false>(v, r, cost);
-}
-OCT_HD inline bool anyHit(const HashOctreeView& v, const Ray& r, TraceCost& cost) {
-    return traverseOctree<true>(v, r, cost).prim >= 0;
-}
 
 struct HashOctree {
     uint64_t bucketCount = 0;       // m

@@ -13,27 +13,29 @@
 namespace oct {
 
 struct LinearOctreeView {
-    const OctreeNode* nodes;      // 8 bytes
-    uint64_t nodeCount;           // 8 bytes
-    const uint32_t* primIndices;  // 8 bytes: the global leaf index array
-    PrimitivesView prims;         // 24 bytes
+    static constexpr bool kNodeRecords = true;  // traversed by traverseOctree (traversal.h)
+    const OctreeNode* nodes;                    // 8 bytes
+    uint64_t nodeCount;                         // 8 bytes
+    const uint32_t* primIndices;                // 8 bytes: the global leaf index array
+    PrimitivesView prims;                       // 24 bytes
 
-    OCT_HD const OctreeNode* root() const { return nodes; }
+    OCT_HD const OctreeNode* root() const {
+        NoObserver none;
+        return root(none);
+    }
+    template <class Obs>
+    OCT_HD const OctreeNode* root(Obs&) const {
+        return nodes;
+    }
     // The child of the internal node stored at `at` (its Morton key is not needed here).
     // Children of an internal node always exist in the complete array (it has depth+1 levels).
-    OCT_HD const OctreeNode* child(const OctreeNode* at, uint64_t /*key*/, int octant) const {
+    template <class Obs>
+    OCT_HD const OctreeNode* child(const OctreeNode* at, uint64_t /*key*/, int octant, Obs&) const {
         uint64_t p = static_cast<uint64_t>(at - nodes);
         return nodes + (8 * p + 1 + octant);
     }
 };
 static_assert(std::is_trivially_copyable<LinearOctreeView>::value, "views are passed by value");
-
-OCT_HD inline Hit closestHit(const LinearOctreeView& v, const Ray& r, TraceCost& cost) {
-    return traverseOctree<false>(v, r, cost);
-}
-OCT_HD inline bool anyHit(const LinearOctreeView& v, const Ray& r, TraceCost& cost) {
-    return traverseOctree<true>(v, r, cost).prim >= 0;
-}
 
 struct LinearOctree {
     std::vector<OctreeNode> nodes;  // (8^(depth+1) - 1) / 7 records

@@ -9,11 +9,15 @@
 // id (considerPrimitive), so every layout reports the same primitive as exhaustive tracing.
 #pragma once
 
+#include <type_traits>
+
 #include "core/geometry/aabb.h"
 #include "core/geometry/primitives_view.h"
 #include "core/geometry/ray.h"
+#include "core/octree/morton.h"
 #include "core/octree/node.h"
 #include "core/octree/octree_limits.h"
+#include "core/octree/traversal_observer.h"
 
 namespace oct {
 
@@ -39,31 +43,42 @@ OCT_HD inline void sortFarToNear(StackEntry* e, int n) {
 // Depth-first traversal with an explicit stack of kTraversalStackSize entries; the builder
 // refuses depths beyond kMaxOctreeDepth, which bounds the stack (7 per level + 8).
 // kAnyHit: stop at the first primitive hit in [tmin, tmax] (shadow rays).
-// OctView needs: root() -> const OctreeNode* (null: no tree), child(node, key, octant) ->
-// const OctreeNode* (null: absent), and the members primIndices and prims.
-template <bool kAnyHit, class OctView>
-OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost) {
+// OctView needs: root(obs) -> const OctreeNode* (null: no tree), child(node, key, octant, obs)
+// -> const OctreeNode* (null: absent), and the members primIndices and prims. `obs` sees every
+// step (traversal_observer.h); the kernels pass NoObserver.
+template <bool kAnyHit, class OctView, class Obs>
+OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost, Obs& obs) {
     PreparedRay q = prepareRay(r);
     Hit best = initialHit(r);
     StackEntry stack[kTraversalStackSize];
     int top = 0;
 
-    const OctreeNode* root = v.root();
+    const OctreeNode* root = v.root(obs);
     float t0, t1;
     ++cost.nodesVisited;
-    if (root == nullptr || !intersectBox(q.slabs, loadReadOnly(root).box, r.tmin, r.tmax, t0, t1))
+    if (root == nullptr) {
+        obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
+    }
+    const OctreeNode& rn = loadReadOnly(root);
+    const bool rootHit = intersectBox(q.slabs, rn.box, r.tmin, r.tmax, t0, t1);
+    obs.boxTested(kRootKey, 0, rn.box, rootHit, t0, t1);
+    if (!rootHit) return missHit();
     stack[top++] = {root, t0};
 
     while (top > 0) {
         StackEntry e = stack[--top];
-        if (e.tEnter > best.t) continue;  // a nearer hit is already known
         const OctreeNode& n = loadReadOnly(e.node);
+        if (e.tEnter > best.t) {  // a nearer hit is already known
+            obs.nodePopped(n.key, e.tEnter, false);
+            continue;
+        }
+        obs.nodePopped(n.key, e.tEnter, true);
         NodeType type = n.nodeType();
         if (type == NodeType::Leaf) {
             for (uint32_t k = 0; k < n.primCount; ++k) {
                 const uint32_t prim = loadReadOnly(v.primIndices + n.primOffset + k);
-                considerPrimitive(v.prims, prim, q, best, cost);
+                considerPrimitive(v.prims, prim, q, best, cost, obs);
                 if (kAnyHit && best.prim >= 0) return best;
             }
             continue;
@@ -72,19 +87,51 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         StackEntry kids[8];
         int count = 0;
         for (int i = 0; i < 8; ++i) {
-            const OctreeNode* c = v.child(e.node, n.key, i);
+            const OctreeNode* c = v.child(e.node, n.key, i, obs);
             // Empty leaves and absent nodes hold nothing to hit.
-            if (c == nullptr) continue;
+            if (c == nullptr) {
+                obs.childSkipped(childKey(n.key, i), SkipReason::Absent);
+                continue;
+            }
             const OctreeNode& cn = loadReadOnly(c);
             NodeType ct = cn.nodeType();
-            if (ct != NodeType::Leaf && ct != NodeType::Internal) continue;
+            if (ct != NodeType::Leaf && ct != NodeType::Internal) {
+                obs.childSkipped(childKey(n.key, i), ct == NodeType::EmptyLeaf
+                                                         ? SkipReason::Empty
+                                                         : SkipReason::Absent);
+                continue;
+            }
             ++cost.nodesVisited;
-            if (intersectBox(q.slabs, cn.box, r.tmin, best.t, t0, t1)) kids[count++] = {c, t0};
+            const bool hit = intersectBox(q.slabs, cn.box, r.tmin, best.t, t0, t1);
+            obs.boxTested(childKey(n.key, i), cn.depth, cn.box, hit, t0, t1);
+            if (hit) kids[count++] = {c, t0};
         }
         sortFarToNear(kids, count);
         for (int i = 0; i < count; ++i) stack[top++] = kids[i];
     }
     return finishHit(best);
+}
+
+// The closest-hit and any-hit queries of every View that declares
+// `static constexpr bool kNodeRecords = true` (it stores the paper's node record and provides
+// root() and child()), with an observer, and the forms the kernels call, with none.
+template <class View, class Obs, std::enable_if_t<View::kNodeRecords, int> = 0>
+OCT_HD inline Hit closestHit(const View& v, const Ray& r, TraceCost& cost, Obs& obs) {
+    return traverseOctree<false>(v, r, cost, obs);
+}
+template <class View, class Obs, std::enable_if_t<View::kNodeRecords, int> = 0>
+OCT_HD inline bool anyHit(const View& v, const Ray& r, TraceCost& cost, Obs& obs) {
+    return traverseOctree<true>(v, r, cost, obs).prim >= 0;
+}
+template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
+OCT_HD inline Hit closestHit(const View& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return traverseOctree<false>(v, r, cost, none);
+}
+template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
+OCT_HD inline bool anyHit(const View& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return traverseOctree<true>(v, r, cost, none).prim >= 0;
 }
 
 }  // namespace oct

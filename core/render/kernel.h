@@ -5,6 +5,7 @@
 
 #include "core/geometry/primitives_view.h"
 #include "core/geometry/ray.h"
+#include "core/octree/traversal_observer.h"
 #include "core/render/camera.h"
 #include "core/render/film.h"
 
@@ -78,28 +79,51 @@ OCT_HD inline Vec3 phong(const ShadingParams& s, Vec3 normal, Vec3 toLight, Vec3
     return c + s.surfaceColour * (s.diffuse * nl) + makeVec3(s.specular * pow32(rv));
 }
 
+// Everything one pixel's rays produce, before it is written to the Film.
+struct PixelSample {
+    Ray primary;
+    Hit hit;
+    ShadowQuery shadowQuery;  // defined when hit.prim >= 0
+    uint8_t shadow;           // kNoShadowRay, kLit or kOccluded
+    Vec3 colour;
+    TraceCost cost;  // primary and shadow ray together
+};
+
+// The pixel's primary ray, closest hit, shadow ray and Phong colour. `primaryObs` and
+// `shadowObs` see each traversal step (traversal_observer.h): `octrace explain` records them,
+// renderPixel passes NoObserver, so explain reports exactly the kernel's steps and costs.
+template <class Accel, class Obs>
+OCT_HD inline PixelSample tracePixel(int x, int y, const FrameParams& p, const Accel& accel,
+                                     const PrimitivesView& prims, Obs& primaryObs, Obs& shadowObs) {
+    PixelSample s;
+    s.primary = primaryRay(p.camera, x, y, p.width, p.height);
+    s.cost = {0, 0};
+    s.hit = closestHit(accel, s.primary, s.cost, primaryObs);
+    s.colour = p.shading.background;
+    s.shadow = kNoShadowRay;
+    if (s.hit.prim >= 0) {
+        s.shadowQuery = shadowQuery(p.shading, prims, s.primary, s.hit);
+        const ShadowQuery& sq = s.shadowQuery;
+        if (sq.cast) s.shadow = anyHit(accel, sq.ray, s.cost, shadowObs) ? kOccluded : kLit;
+        s.colour = phong(p.shading, sq.normal, sq.ray.dir, s.primary.dir, s.shadow == kOccluded);
+    }
+    return s;
+}
+
 template <class Accel>
 OCT_HD inline void renderPixel(int x, int y, const FrameParams& p, const Accel& accel,
                                const PrimitivesView& prims, FilmView film) {
     int idx = y * film.width + x;
-    Ray ray = primaryRay(p.camera, x, y, p.width, p.height);
-    TraceCost cost = {0, 0};
-    Hit hit = closestHit(accel, ray, cost);
-    Vec3 colour = p.shading.background;
-    uint8_t shadow = kNoShadowRay;
-    if (hit.prim >= 0) {
-        const ShadowQuery sq = shadowQuery(p.shading, prims, ray, hit);
-        if (sq.cast) shadow = anyHit(accel, sq.ray, cost) ? kOccluded : kLit;
-        colour = phong(p.shading, sq.normal, sq.ray.dir, ray.dir, shadow == kOccluded);
-    }
-    film.rgb[3 * idx + 0] = toByte(colour.x);
-    film.rgb[3 * idx + 1] = toByte(colour.y);
-    film.rgb[3 * idx + 2] = toByte(colour.z);
-    film.t[idx] = hit.t;
-    film.prim[idx] = hit.prim;
-    film.nodes[idx] = cost.nodesVisited;
-    film.primsTested[idx] = cost.primsTested;
-    film.shadow[idx] = shadow;
+    NoObserver none;
+    const PixelSample s = tracePixel(x, y, p, accel, prims, none, none);
+    film.rgb[3 * idx + 0] = toByte(s.colour.x);
+    film.rgb[3 * idx + 1] = toByte(s.colour.y);
+    film.rgb[3 * idx + 2] = toByte(s.colour.z);
+    film.t[idx] = s.hit.t;
+    film.prim[idx] = s.hit.prim;
+    film.nodes[idx] = s.cost.nodesVisited;
+    film.primsTested[idx] = s.cost.primsTested;
+    film.shadow[idx] = s.shadow;
 }
 
 // One ray of a user's ray set (octrace trace): closest hit with t in [tmin, tmax].
