@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/octree/compact_octree.h"
 #include "core/octree/exhaustive_layout.h"
 #include "core/octree/hash_octree.h"
 #include "core/octree/layout.h"
@@ -22,7 +23,7 @@ template <class... L>
 struct LayoutList {};
 
 // The list. Order is the order of help texts, `info` and `--accel all`.
-using Layouts = LayoutList<ExhaustiveLayout, LinearLayout, HashLayout>;
+using Layouts = LayoutList<ExhaustiveLayout, LinearLayout, HashLayout, CompactLayout>;
 
 // A layout as the host sees it at run time: its registry entry without the types.
 struct LayoutDesc {

@@ -15,12 +15,15 @@
 #include <string>
 #include <vector>
 
+#include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
+using oct::LayoutDesc;
+using oct::layouts;
 
 const std::string kMeshes = std::string(OCT_SOURCE_DIR) + "/meshes";
 
@@ -113,16 +116,17 @@ TEST(BenchCommand, QuickSweepWritesEveryFieldAndCase) {
         }
     }
 
-    // The quick sweep: three clouds and two committed meshes, each with Embree and the three
-    // layouts on the CPU.
+    // The quick sweep: three clouds and two committed meshes, each with Embree and every
+    // layout of the registry on the CPU.
     const std::vector<std::string> scenes = {"grid:1000:1", "grid:2000:1", "grid:4000:1",
                                              "cornell_box.obj", "teapot.obj"};
-    EXPECT_EQ(rows.size(), scenes.size() * 4);
+    EXPECT_EQ(rows.size(), scenes.size() * (1 + layouts().size()));
     for (const std::string& s : scenes) {
         const json* e = findRow(rows, s, "embree-bvh", "embree");
         ASSERT_NE(e, nullptr) << s;
         ASSERT_EQ((*e)["status"], "ok") << e->dump();
-        for (const char* layout : {"exhaustive", "linear", "hash"}) {
+        for (const LayoutDesc& l : layouts()) {
+            const std::string layout = l.name;
             const json* r = findRow(rows, s, layout, "cpu");
             ASSERT_NE(r, nullptr) << s << " " << layout;
             ASSERT_EQ((*r)["status"], "ok") << r->dump();
@@ -132,7 +136,7 @@ TEST(BenchCommand, QuickSweepWritesEveryFieldAndCase) {
                 EXPECT_TRUE((*r)[k].is_number()) << s << " " << layout << " " << k;
             EXPECT_EQ((*r)["primary_rays"], (*r)["width"].get<int>() * (*r)["height"].get<int>());
             EXPECT_EQ((*r)["primary_rays"], (*e)["primary_rays"]) << "the same rays as Embree";
-            if (std::string(layout) != "exhaustive") {
+            if (l.usesOctree) {
                 EXPECT_TRUE((*r)["octree_faces"].is_number());
                 EXPECT_GE((*r)["octree_faces"].get<uint64_t>(), (*r)["primitives"].get<uint64_t>())
                     << "every primitive is referenced by at least one leaf";

@@ -198,8 +198,27 @@ struct BuildConfig {
     uint32_t maxPrims;
 };
 
-// Builds each configuration, converts it to the linear (when shallow enough) and hash layouts
-// and compares both with exhaustive tracing on the rays and their windowed copies.
+// Every octree layout of the registry over one canonical octree, against exhaustive tracing
+// (the linear layout only while its complete array stays small). Returns the queries made.
+size_t compareLayouts(const Scene& scene, const std::shared_ptr<const Octree>& tree,
+                      const std::vector<const RaySet*>& sets) {
+    size_t queries = 0;
+    LayoutOptions lo;
+    lo.linearBudget = 256ull << 20;
+    for (const LayoutDesc& layout : layouts()) {
+        if (!layout.usesOctree) continue;
+        if (std::string(layout.name) == "linear" && tree->depth > 6) continue;
+        BuiltScene b = convertLayout(scene, tree, layout, lo);
+        b.visit([&](const auto& view) {
+            for (const RaySet* set : sets)
+                queries += compareWithExhaustive(view, *set, layout.name);
+        });
+    }
+    return queries;
+}
+
+// Builds each configuration, converts it to every octree layout and compares each with
+// exhaustive tracing on the rays and their windowed copies.
 void checkScene(const Scene& scene, const std::vector<BuildConfig>& configs, int perKind,
                 uint64_t seed) {
     const PrimitivesView prims = primitivesView(scene);
@@ -216,22 +235,15 @@ void checkScene(const Scene& scene, const std::vector<BuildConfig>& configs, int
     for (const BuildConfig& c : configs) {
         SCOPED_TRACE("maxDepth " + std::to_string(c.maxDepth) + " maxPrims " +
                      std::to_string(c.maxPrims));
-        Octree t = buildOctree(scene, {c.maxDepth, c.maxPrims});
-        if (t.depth <= 6) {
-            LinearOctree lin = buildLinear(t, 256ull << 20);
-            LinearOctreeView lv = linearView(lin, t, prims);
-            queries += compareWithExhaustive(lv, plain, "linear");
-            queries += compareWithExhaustive(lv, windows, "linear windowed");
-        }
-        // Few slots per bucket make m grow steeply with the node count (B = 2 on a 160k-node
-        // tree needs 21M buckets), so B = 2 only on the smaller trees.
-        std::vector<uint32_t> slotCounts = {4u};
-        if (t.nodes.size() <= 20000) slotCounts.push_back(2u);
-        for (uint32_t B : slotCounts) {
-            HashOctree h = buildHash(t, {B});
-            HashOctreeView hv = hashView(h, t, prims);
-            queries += compareWithExhaustive(hv, plain, "hash");
-            queries += compareWithExhaustive(hv, windows, "hash windowed");
+        auto t = std::make_shared<const Octree>(buildOctree(scene, {c.maxDepth, c.maxPrims}));
+        queries += compareLayouts(scene, t, {&plain, &windows});
+        // The hash layout with two slots a bucket as well: few slots make m grow steeply with
+        // the node count (B = 2 on a 160k-node tree needs 21M buckets), so only on small trees.
+        if (t->nodes.size() <= 20000) {
+            HashOctree h = buildHash(*t, {2u});
+            HashOctreeView hv = hashView(h, *t, prims);
+            queries += compareWithExhaustive(hv, plain, "hash B=2");
+            queries += compareWithExhaustive(hv, windows, "hash B=2 windowed");
         }
     }
     size_t primary = 0;
@@ -318,13 +330,8 @@ TEST(TraversalVsExhaustive, TiesAcrossLeavesGoToLowerId) {
     EXPECT_GT(ties, set.hits.size() * 9 / 10);  // the small triangle wins the tie
     for (BuildConfig c : {BuildConfig{6, 1}, BuildConfig{8, 2}, BuildConfig{4, 1}}) {
         SCOPED_TRACE("maxDepth " + std::to_string(c.maxDepth));
-        Octree t = buildOctree(s, {c.maxDepth, c.maxPrims});
-        HashOctree h = buildHash(t, {4});
-        compareWithExhaustive(hashView(h, t, prims), set, "hash");
-        if (t.depth <= 6) {
-            LinearOctree lin = buildLinear(t, 256ull << 20);
-            compareWithExhaustive(linearView(lin, t, prims), set, "linear");
-        }
+        compareLayouts(s, std::make_shared<const Octree>(buildOctree(s, {c.maxDepth, c.maxPrims})),
+                       {&set});
     }
 }
 

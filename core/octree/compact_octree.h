@@ -1,0 +1,279 @@
+// Compact octree (beyond the paper): the same canonical octree, same leaves and leaf lists,
+// stored the way a modern engineer would, for speed and memory.
+//
+// - Nodes hold what traversal needs and nothing else (ESVO child descriptors, Laine & Karras,
+//   "Efficient Sparse Voxel Octrees", 2010): an internal node holds a child mask, a leaf mask
+//   and the index of its first child; its non-empty children are stored contiguously in octant
+//   order. Empty leaves are not stored at all. 8 bytes a node.
+// - No boxes are stored: a cell's box follows from the root's by halving. Traversal halves with
+//   exactly the float operations the builder used (childBox, core/geometry/aabb.h), so every
+//   derived box is bit for bit the canonical node's box, and every leaf list the builder made
+//   for that box applies unchanged.
+// - Children are tested from parametric t-values (after Revelles, Urena & Lastra, "An
+//   Efficient Parametric Algorithm for Octree Traversal", 2000): per internal node the t of the
+//   three mid-planes only, then each child's interval by min/max selections, eight lanes at
+//   once (vectorised on the CPU, one thread's loop on CUDA). The t-values are those the slab test
+//   would compute for the child's box, so the decisions are the slab test's own.
+// - Front to back with early exit: children are pushed far to near, a popped node entered
+//   beyond the closest hit is dropped, any-hit queries stop at the first hit.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+#include "core/octree/layout.h"
+#include "core/octree/morton.h"
+#include "core/octree/traversal.h"
+
+namespace oct {
+
+// Byte layout (8 bytes). Which form a record takes is known from its parent's leafMask (the
+// root's from CompactOctreeView::rootIsLeaf).
+//   internal: 0 uint32 firstChild  index of its first child record
+//             4 uint8  childMask   bit i: octant i holds an internal node or a non-empty leaf
+//             5 uint8  leafMask    bit i: that child is a leaf (a subset of childMask)
+//             6 uint16 zero
+//   leaf:     0 uint32 primOffset  first entry of its list in the global primIndices array
+//             4 uint32 primCount   entries in that list (> 0: empty leaves are not stored)
+struct CompactNode {
+    uint32_t a;  // firstChild | primOffset
+    uint32_t b;  // childMask | leafMask << 8 | primCount
+
+    OCT_HD uint32_t firstChild() const { return a; }
+    OCT_HD uint32_t childMask() const { return b & 0xffu; }
+    OCT_HD uint32_t leafMask() const { return (b >> 8) & 0xffu; }
+    OCT_HD uint32_t primOffset() const { return a; }
+    OCT_HD uint32_t primCount() const { return b; }
+};
+static_assert(sizeof(CompactNode) == 8, "CompactNode byte layout is documented above");
+
+struct CompactOctreeView {
+    const CompactNode* nodes;     // 8 bytes; root at 0
+    const uint32_t* primIndices;  // 8 bytes: the global leaf index array
+    PrimitivesView prims;         // 24 bytes
+    Aabb rootBox;                 // 24 bytes: the canonical root cube
+    uint32_t rootIsLeaf;          // 4 bytes: 1 when the whole tree is one leaf
+    uint32_t nodeCount;           // 4 bytes
+};
+static_assert(std::is_trivially_copyable<CompactOctreeView>::value, "views are passed by value");
+
+// --- traversal ---------------------------------------------------------------------------------
+
+// Host loops over the eight lanes are written for the vectoriser; CUDA runs them per thread.
+#if defined(__CUDA_ARCH__)
+#define OCT_SIMD_LOOP
+#else
+#define OCT_SIMD_LOOP _Pragma("omp simd")
+#endif
+
+namespace compact_detail {
+
+// One stack entry: a node record to visit, the box it covers and where the ray enters it.
+// 36 bytes; with an observer (octrace explain) also its Morton key and depth.
+template <bool kKeys>
+struct Entry {
+    Aabb box;
+    float tEnter;
+    uint32_t index;
+    uint32_t leaf;
+    OCT_HD uint64_t key() const { return 0; }
+    OCT_HD int depth() const { return 0; }
+    OCT_HD void setKey(uint64_t, int) {}
+};
+template <>
+struct Entry<true> {
+    Aabb box;
+    float tEnter;
+    uint32_t index;
+    uint32_t leaf;
+    uint64_t k;
+    int d;
+    OCT_HD uint64_t key() const { return k; }
+    OCT_HD int depth() const { return d; }
+    OCT_HD void setKey(uint64_t key, int depth) {
+        k = key;
+        d = depth;
+    }
+};
+
+// The slab interval [near, far] of the lower and the upper half of a box along one axis, as
+// intersectSlab (aabb.h) computes it for the half's own box: t at its two planes, near the
+// smaller, far the larger scaled by kSlabFarScale. A zero direction component (inv = +-inf)
+// never forms 0 * inf: the half contains the origin's coordinate for all t, or never.
+OCT_HD inline void halfSlabs(float o, float inv, float lo, float mid, float hi, float* nearT,
+                             float* farT) {
+    if (std::isinf(inv)) {
+        const bool inLo = o >= lo && o <= mid, inHi = o >= mid && o <= hi;
+        nearT[0] = inLo ? -INFINITY : INFINITY;
+        farT[0] = inLo ? INFINITY : -INFINITY;
+        nearT[1] = inHi ? -INFINITY : INFINITY;
+        farT[1] = inHi ? INFINITY : -INFINITY;
+        return;
+    }
+    const float tl = (lo - o) * inv, tm = (mid - o) * inv, th = (hi - o) * inv;
+    nearT[0] = minf(tl, tm);
+    farT[0] = maxf(tl, tm) * kSlabFarScale;
+    nearT[1] = minf(tm, th);
+    farT[1] = maxf(tm, th) * kSlabFarScale;
+}
+
+}  // namespace compact_detail
+
+template <bool kAnyHit, class Obs>
+OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, TraceCost& cost,
+                                  Obs& obs) {
+    constexpr bool kKeys = !std::is_same<Obs, NoObserver>::value;
+    using Entry = compact_detail::Entry<kKeys>;
+    PreparedRay q = prepareRay(r);
+    Hit best = initialHit(r);
+    Entry stack[kTraversalStackSize];
+    int top = 0;
+
+    // Bit a set when the ray runs towards -a: octant order j ^ dirMask is front to back.
+    const int dirMask =
+        (r.dir.x < 0.0f ? 1 : 0) | (r.dir.y < 0.0f ? 2 : 0) | (r.dir.z < 0.0f ? 4 : 0);
+    float t0, t1;
+    ++cost.nodesVisited;
+    if (v.nodeCount == 0) {
+        obs.childSkipped(kRootKey, SkipReason::Absent);
+        return missHit();
+    }
+    const bool rootHit = intersectBox(q.slabs, v.rootBox, r.tmin, r.tmax, t0, t1);
+    obs.boxTested(kRootKey, 0, v.rootBox, rootHit, t0, t1);
+    if (!rootHit) return missHit();
+    stack[top].box = v.rootBox;
+    stack[top].tEnter = t0;
+    stack[top].index = 0;
+    stack[top].leaf = v.rootIsLeaf;
+    stack[top].setKey(kRootKey, 0);
+    ++top;
+
+    while (top > 0) {
+        const Entry e = stack[--top];
+        if (e.tEnter > best.t) {  // a nearer hit is already known
+            obs.nodePopped(e.key(), e.tEnter, false);
+            continue;
+        }
+        obs.nodePopped(e.key(), e.tEnter, true);
+        const CompactNode n = loadReadOnly(v.nodes + e.index);
+        if (e.leaf) {
+            const uint32_t offset = n.primOffset(), count = n.primCount();
+            for (uint32_t k = 0; k < count; ++k) {
+                const uint32_t prim = loadReadOnly(v.primIndices + offset + k);
+                considerPrimitive(v.prims, prim, q, best, cost, obs);
+                if (kAnyHit && best.prim >= 0) return best;
+            }
+            continue;
+        }
+        const uint32_t mask = n.childMask(), leafMask = n.leafMask();
+        // The children's boxes: the builder's halving (childBox), so the same bits.
+        const Vec3 mid = e.box.center();
+        float nearX[2], farX[2], nearY[2], farY[2], nearZ[2], farZ[2];
+        compact_detail::halfSlabs(q.slabs.org.x, q.slabs.inv.x, e.box.lo.x, mid.x, e.box.hi.x,
+                                  nearX, farX);
+        compact_detail::halfSlabs(q.slabs.org.y, q.slabs.inv.y, e.box.lo.y, mid.y, e.box.hi.y,
+                                  nearY, farY);
+        compact_detail::halfSlabs(q.slabs.org.z, q.slabs.inv.z, e.box.lo.z, mid.z, e.box.hi.z,
+                                  nearZ, farZ);
+        // Eight lanes: octant i takes the upper half along x when bit 0 is set, and so on.
+        float enter[8], exit[8];
+        const float tLo = r.tmin, tHi = best.t;
+        OCT_SIMD_LOOP
+        for (int i = 0; i < 8; ++i) {
+            enter[i] = maxf(maxf(maxf(tLo, nearX[i & 1]), nearY[(i >> 1) & 1]), nearZ[i >> 2]);
+            exit[i] = minf(minf(minf(tHi, farX[i & 1]), farY[(i >> 1) & 1]), farZ[i >> 2]);
+        }
+        // Push the hit children far to near, so the nearest is popped first. Octant order
+        // j ^ dirMask (ascending j) is front to back for any ray: along each axis the ray
+        // crosses from the half it starts in to the other, never back, so a child whose octant
+        // differs from another's in bits the ray flips later cannot be entered earlier.
+        // Pushing j = 7 .. 0 needs no sort. A child's record is firstChild + the number of
+        // stored octants below it (a prefix count: popcount would be a library call on x86-64
+        // without -mpopcnt).
+        uint32_t rank[8];
+        for (uint32_t i = 0, below = n.firstChild(); i < 8; ++i) {
+            rank[i] = below;
+            below += (mask >> i) & 1u;
+        }
+        for (int j = 7; j >= 0; --j) {
+            const int i = j ^ dirMask;
+            if (!(mask & (1u << i))) {
+                if (kKeys) obs.childSkipped(childKey(e.key(), i), SkipReason::Empty);
+                continue;
+            }
+            ++cost.nodesVisited;
+            const bool hit = enter[i] <= exit[i];
+            if (kKeys) {
+                obs.boxTested(childKey(e.key(), i), e.depth() + 1, childBox(e.box, i), hit,
+                              enter[i], exit[i]);
+            }
+            if (!hit) continue;
+            Entry& c = stack[top++];
+            c.box = childBox(e.box, i);
+            c.tEnter = enter[i];
+            c.index = rank[i];
+            c.leaf = (leafMask >> i) & 1u;
+            c.setKey(childKey(e.key(), i), e.depth() + 1);
+        }
+    }
+    return finishHit(best);
+}
+
+template <class Obs>
+OCT_HD inline Hit closestHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost, Obs& obs) {
+    return traverseCompact<false>(v, r, cost, obs);
+}
+template <class Obs>
+OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost, Obs& obs) {
+    return traverseCompact<true>(v, r, cost, obs).prim >= 0;
+}
+OCT_HD inline Hit closestHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return traverseCompact<false>(v, r, cost, none);
+}
+OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost) {
+    NoObserver none;
+    return traverseCompact<true>(v, r, cost, none).prim >= 0;
+}
+
+// --- host ------------------------------------------------------------------------------------
+
+struct CompactOctree {
+    std::vector<CompactNode> nodes;  // root at 0, children adjacent (breadth first)
+    Aabb rootBox{};
+    bool rootIsLeaf = false;
+};
+
+// Converts the canonical octree: internal nodes and non-empty leaves, in breadth-first order.
+// The leaf lists stay in the canonical tree's primIndices (shared).
+CompactOctree buildCompact(const Octree& tree);
+CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, PrimitivesView prims);
+
+// Registry entry. Arrays: 0 the node records, 1 the leaf index list; scalars: 0..2 the root box
+// (six floats, two a scalar), 3 rootIsLeaf.
+struct CompactLayout {
+    static constexpr const char* kName = "compact";
+    static constexpr const char* kSummary =
+        "beyond the paper: 8-byte child descriptors, derived boxes, parametric front-to-back";
+    static constexpr bool kUsesOctree = true;
+    using View = CompactOctreeView;
+
+    static LayoutStorage convert(const std::shared_ptr<const Octree>& tree, const LayoutOptions& o);
+    static LayoutReport report(const Octree& tree, const LayoutOptions& o);
+    static View view(const LayoutArrays& a, PrimitivesView prims) {
+        View v;
+        v.nodes = a.array<CompactNode>(0);
+        v.primIndices = a.array<uint32_t>(1);
+        v.prims = prims;
+        float box[6];
+        std::memcpy(box, a.scalars, sizeof box);
+        v.rootBox = {{box[0], box[1], box[2]}, {box[3], box[4], box[5]}};
+        v.rootIsLeaf = uint32_t(a.scalars[3]);
+        v.nodeCount = uint32_t(a.count<CompactNode>(0));
+        return v;
+    }
+};
+
+}  // namespace oct
