@@ -55,11 +55,11 @@ nlohmann::json treeJson(const Octree& t) {
 
 // Every layout of the registry over the canonical octree: its facts under its name, and its
 // one-line summary for the text form.
-nlohmann::json layoutsJson(const Octree& t, const LayoutOptions& lo,
+nlohmann::json layoutsJson(const Scene& scene, const Octree& t, const LayoutOptions& lo,
                            std::vector<std::pair<std::string, std::string>>& lines) {
     nlohmann::json j;
     for (const LayoutDesc& d : layouts()) {
-        LayoutReport r = d.report(t, lo);
+        LayoutReport r = d.report(scene, t, lo);
         nlohmann::json facts = nlohmann::json::object();
         for (const LayoutFact& f : r.facts) {
             if (f.integer)
@@ -130,7 +130,7 @@ void runInfo(const InfoOptions& o) {
     j["load"] = loadJson(scene);
     j["octree"] = treeJson(tree);
     std::vector<std::pair<std::string, std::string>> layoutLines;
-    j["layouts"] = layoutsJson(tree, lo, layoutLines);
+    j["layouts"] = layoutsJson(scene, tree, lo, layoutLines);
     if (o.json.empty())
         printHuman(j, layoutLines);
     else

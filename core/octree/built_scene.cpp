@@ -33,7 +33,7 @@ BuiltScene convertLayout(const Scene& scene, std::shared_ptr<const Octree> tree,
         throw OctreeError(std::string("the ") + layout.name +
                           " layout is converted from an octree, and none was built");
     auto t0 = std::chrono::steady_clock::now();
-    b.storage = layout.convert(tree, options);
+    b.storage = layout.convert(scene, tree, options);
     b.convertSeconds = secondsSince(t0);
     if (layout.usesOctree) b.tree = std::move(tree);
     return b;

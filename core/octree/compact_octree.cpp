@@ -1,6 +1,9 @@
 #include "core/octree/compact_octree.h"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -19,13 +22,170 @@ bool stored(const OctreeNode& n) {
            (n.nodeType() == NodeType::Leaf && n.primCount > 0);
 }
 
+// --- bounds of what a cell holds (double precision) ---------------------------------------------
+
+using P3 = std::array<double, 3>;
+
+struct Box3 {
+    P3 lo = {INFINITY, INFINITY, INFINITY};
+    P3 hi = {-INFINITY, -INFINITY, -INFINITY};
+    bool empty() const { return lo[0] > hi[0]; }
+    void grow(const P3& p) {
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
+        }
+    }
+    void grow(const Box3& b) {
+        if (b.empty()) return;
+        grow(b.lo);
+        grow(b.hi);
+    }
+};
+
+// The cell widened by a relative 1e-7 of its edge: clipping against it cannot lose a point of
+// the closed cell to rounding (the builder's overlap test pads by 1e-9; this is wider).
+Box3 paddedCell(const Aabb& cell) {
+    Box3 b;
+    for (int a = 0; a < 3; ++a) {
+        const double pad = 1e-7 * (double(cell.hi[a]) - double(cell.lo[a])) +
+                           1e-12 * std::max(std::fabs(double(cell.lo[a])), 1.0);
+        b.lo[a] = double(cell.lo[a]) - pad;
+        b.hi[a] = double(cell.hi[a]) + pad;
+    }
+    return b;
+}
+
+// Sutherland-Hodgman: the triangle clipped to the box, as the bounds of the clipped polygon.
+// A triangle inside the box is its own bounds (the common case deep in the tree). Each of the
+// six planes adds at most one vertex: at most 9.
+Box3 clippedTriangle(const Triangle& t, const Box3& box) {
+    P3 poly[9] = {P3{t.v0.x, t.v0.y, t.v0.z}, P3{t.v1.x, t.v1.y, t.v1.z},
+                  P3{t.v2.x, t.v2.y, t.v2.z}};
+    int count = 3;
+    Box3 own;
+    for (int i = 0; i < 3; ++i) own.grow(poly[i]);
+    bool within = true;
+    for (int a = 0; a < 3; ++a) within = within && own.lo[a] >= box.lo[a] && own.hi[a] <= box.hi[a];
+    if (within) return own;
+    P3 next[9];
+    for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+            const double plane = side ? box.hi[a] : box.lo[a];
+            auto in = [&](const P3& p) { return side ? p[a] <= plane : p[a] >= plane; };
+            int n = 0;
+            for (int i = 0; i < count; ++i) {
+                const P3& cur = poly[i];
+                const P3& prev = poly[(i + count - 1) % count];
+                const bool ci = in(cur), pi = in(prev);
+                if (ci != pi) {
+                    const double s = (plane - prev[a]) / (cur[a] - prev[a]);
+                    P3& x = next[n++];
+                    for (int k = 0; k < 3; ++k) x[k] = prev[k] + s * (cur[k] - prev[k]);
+                    x[a] = plane;
+                }
+                if (ci) next[n++] = cur;
+            }
+            count = n;
+            for (int i = 0; i < n; ++i) poly[i] = next[i];
+            if (count == 0) return {};
+        }
+    Box3 b;
+    for (int i = 0; i < count; ++i) b.grow(poly[i]);
+    return b;
+}
+
+Box3 clippedSphere(const Sphere& s, const Box3& box) {
+    Box3 b;
+    for (int a = 0; a < 3; ++a) {
+        b.lo[a] = std::max(double(s.center[a]) - double(s.radius), box.lo[a]);
+        b.hi[a] = std::min(double(s.center[a]) + double(s.radius), box.hi[a]);
+        if (b.lo[a] > b.hi[a]) return {};
+    }
+    return b;
+}
+
+// What a leaf holds within its cell. When rounding leaves nothing (a primitive the builder
+// listed only by its tolerance), the whole cell: bounds may only ever be too large.
+Box3 leafGeometry(const Scene& scene, const Octree& tree, const OctreeNode& n) {
+    const Box3 cell = paddedCell(n.box);
+    Box3 b;
+    bool lost = false;
+    for (uint32_t k = 0; k < n.primCount; ++k) {
+        const uint32_t p = tree.primIndices[n.primOffset + k];
+        const Box3 c = scene.kind == PrimKind::Triangles ? clippedTriangle(scene.triangles[p], cell)
+                                                         : clippedSphere(scene.spheres[p], cell);
+        lost = lost || c.empty();
+        b.grow(c);
+    }
+    return lost ? cell : b;
+}
+
+// The largest q whose plane cellLo + q * step lies at or below `g`, the smallest whose plane
+// cellHi - (255 - q) * step lies at or above `g`, each checked with and without a fused
+// multiply-add (the certified CUDA build has none, the fast one may contract): the kernel's
+// dequantize() is conservative however it is compiled.
+uint8_t quantLo(float lo, float hi, double g) {
+    const float step = (hi - lo) * (1.0f / 255.0f);
+    auto fits = [&](int q) {
+        return double(lo + float(q) * step) <= g && double(std::fmaf(float(q), step, lo)) <= g;
+    };
+    if (!(step > 0.0f)) return 0;
+    // Start from the real-valued answer and step down until both forms fit (a step or two).
+    int q = int(std::floor((g - double(lo)) / double(step))) + 1;
+    for (q = std::min(q, 255); q > 0; --q)
+        if (fits(q)) return uint8_t(q);
+    return 0;  // the cell's own plane, exact
+}
+uint8_t quantHi(float lo, float hi, double g) {
+    const float step = (hi - lo) * (1.0f / 255.0f);
+    auto fits = [&](int q) {
+        return double(hi - float(255 - q) * step) >= g &&
+               double(std::fmaf(-float(255 - q), step, hi)) >= g;
+    };
+    if (!(step > 0.0f)) return 255;
+    int q = 255 - int(std::floor((double(hi) - g) / double(step))) - 1;
+    for (q = std::max(q, 0); q < 255; ++q)
+        if (fits(q)) return uint8_t(q);
+    return 255;
+}
+
+QuantBounds quantise(const Box3& g, const Aabb& cell) {
+    QuantBounds q{};
+    for (int a = 0; a < 3; ++a) {
+        q.lo[a] = quantLo(cell.lo[a], cell.hi[a], g.lo[a]);
+        q.hi[a] = quantHi(cell.lo[a], cell.hi[a], g.hi[a]);
+        if (q.lo[a] > q.hi[a]) q.lo[a] = q.hi[a];  // a flat slab: keep a valid box
+    }
+    return q;
+}
+
+// Bounds of every canonical node: the leaves in parallel, then the internal nodes children
+// before parents (the tree is breadth first, so a backwards pass sees children first).
+std::vector<Box3> nodeGeometry(const Scene& scene, const Octree& tree) {
+    std::vector<Box3> g(tree.nodes.size());
+    const int64_t n = int64_t(tree.nodes.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int64_t i = 0; i < n; ++i) {
+        const OctreeNode& node = tree.nodes[size_t(i)];
+        if (node.nodeType() == NodeType::Leaf && node.primCount > 0)
+            g[size_t(i)] = leafGeometry(scene, tree, node);
+    }
+    for (size_t i = tree.nodes.size(); i-- > 0;)
+        if (tree.nodes[i].nodeType() == NodeType::Internal)
+            for (int c = 0; c < 8; ++c) g[i].grow(g[tree.firstChild[i] + c]);
+    return g;
+}
+
 }  // namespace
 
-CompactOctree buildCompact(const Octree& tree) {
+CompactOctree buildCompact(const Octree& tree, const Scene* scene) {
     CompactOctree c;
     c.rootBox = tree.root;
     if (tree.nodes.empty() || !stored(tree.nodes[0])) return c;  // nothing to hit
     c.rootIsLeaf = tree.nodes[0].nodeType() == NodeType::Leaf;
+    std::vector<Box3> geometry;
+    if (scene) geometry = nodeGeometry(*scene, tree);
     // Breadth first: a queue of canonical node indices in the order their records are placed;
     // an internal node's stored children are appended together, so they are adjacent.
     std::vector<uint32_t> order = {0};
@@ -50,6 +210,7 @@ CompactOctree buildCompact(const Octree& tree) {
             rec.b = mask | leaves << 8;
         }
         c.nodes.push_back(rec);
+        if (scene) c.bounds.push_back(quantise(geometry[order[at]], n.box));
     }
     return c;
 }
@@ -62,46 +223,50 @@ CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, Primit
     v.rootBox = c.rootBox;
     v.rootIsLeaf = c.rootIsLeaf;
     v.nodeCount = uint32_t(c.nodes.size());
+    v.bounds = c.bounds.empty() ? nullptr : c.bounds.data();
     return v;
 }
 
-LayoutStorage CompactLayout::convert(const std::shared_ptr<const Octree>& tree,
+LayoutStorage CompactLayout::convert(const Scene& scene, const std::shared_ptr<const Octree>& tree,
                                      const LayoutOptions&) {
     if (tree->nodes.size() > 0xffffffffull)
         throw OctreeError("the compact layout addresses at most 2^32 nodes; this octree has " +
                           std::to_string(tree->nodes.size()) + ": lower --max-depth");
     auto owner = std::make_shared<CompactStorage>();
     owner->tree = tree;
-    owner->compact = buildCompact(*tree);
+    owner->compact = buildCompact(*tree, &scene);
     const CompactOctree& c = owner->compact;
     LayoutStorage s;
     s.arrays.arrays[0] = layoutArray(c.nodes);
     s.arrays.arrays[1] = layoutArray(tree->primIndices);
+    s.arrays.arrays[2] = layoutArray(c.bounds);
     const float box[6] = {c.rootBox.lo.x, c.rootBox.lo.y, c.rootBox.lo.z,
                           c.rootBox.hi.x, c.rootBox.hi.y, c.rootBox.hi.z};
     std::memcpy(s.arrays.scalars, box, sizeof box);
     s.arrays.scalars[3] = c.rootIsLeaf ? 1 : 0;
-    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes;
+    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes + s.arrays.arrays[2].bytes;
     s.owner = std::move(owner);
     return s;
 }
 
-LayoutReport CompactLayout::report(const Octree& tree, const LayoutOptions& o) {
+LayoutReport CompactLayout::report(const Scene& scene, const Octree& tree, const LayoutOptions& o) {
     auto start = std::chrono::steady_clock::now();
-    LayoutStorage s = convert(std::shared_ptr<const Octree>(&tree, [](const Octree*) {}), o);
+    LayoutStorage s = convert(scene, std::shared_ptr<const Octree>(&tree, [](const Octree*) {}), o);
     LayoutReport r;
     r.convertSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     const uint64_t records = s.arrays.arrays[0].bytes / sizeof(CompactNode);
+    const uint64_t perNode = sizeof(CompactNode) + sizeof(QuantBounds);
     r.bytes = s.bytes;
-    r.facts = {countFact("nodes", records), countFact("node_bytes", s.arrays.arrays[0].bytes),
-               countFact("bytes_per_node", sizeof(CompactNode)), countFact("bytes", r.bytes),
+    r.facts = {countFact("nodes", records),
+               countFact("node_bytes", s.arrays.arrays[0].bytes + s.arrays.arrays[2].bytes),
+               countFact("bytes_per_node", perNode), countFact("bytes", r.bytes),
                realFact("build_seconds", r.convertSeconds)};
     char line[160];
     std::snprintf(line, sizeof line,
-                  "%llu nodes of %zu bytes (empty leaves not stored), %.2f MiB, built in %.3f s",
-                  (unsigned long long)records, sizeof(CompactNode), double(r.bytes) / 1048576.0,
-                  r.convertSeconds);
+                  "%llu nodes of %llu bytes (empty leaves not stored), %.2f MiB, built in %.3f s",
+                  (unsigned long long)records, (unsigned long long)perNode,
+                  double(r.bytes) / 1048576.0, r.convertSeconds);
     r.summary = line;
     return r;
 }

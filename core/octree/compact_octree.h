@@ -49,6 +49,34 @@ struct CompactNode {
 };
 static_assert(sizeof(CompactNode) == 8, "CompactNode byte layout is documented above");
 
+// The geometry inside a record's cell, quantised to 1/255 of the cell along each axis, rounded
+// outwards (after Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on GPUs Through
+// Compressed Wide BVHs", 2017, who quantise child boxes to 8 bits a plane). Octree cells are
+// loose around triangles; these bounds cull rays that cross a cell but miss what it holds.
+// Byte layout (8 bytes):
+//   0 uint8 lo[3]  plane = cellLo + lo * step            step = (cellHi - cellLo) * (1 / 255)
+//   3 uint8 hi[3]  plane = cellHi - (255 - hi) * step
+//   6 uint8 zero[2]
+// lo = 0 and hi = 255 give the cell's own planes exactly.
+struct QuantBounds {
+    uint8_t lo[3];
+    uint8_t hi[3];
+    uint8_t zero[2];
+};
+static_assert(sizeof(QuantBounds) == 8, "QuantBounds byte layout is documented above");
+
+// The planes of QuantBounds within `cell`, computed the one way the converter checks them
+// against the geometry (compact_octree.cpp), fused multiply-add or not.
+OCT_HD inline Aabb dequantize(const QuantBounds& qb, const Aabb& cell) {
+    Aabb b;
+    for (int a = 0; a < 3; ++a) {
+        const float step = (cell.hi[a] - cell.lo[a]) * (1.0f / 255.0f);
+        b.lo[a] = cell.lo[a] + float(qb.lo[a]) * step;
+        b.hi[a] = cell.hi[a] - float(255 - qb.hi[a]) * step;
+    }
+    return b;
+}
+
 struct CompactOctreeView {
     const CompactNode* nodes;     // 8 bytes; root at 0
     const uint32_t* primIndices;  // 8 bytes: the global leaf index array
@@ -56,6 +84,7 @@ struct CompactOctreeView {
     Aabb rootBox;                 // 24 bytes: the canonical root cube
     uint32_t rootIsLeaf;          // 4 bytes: 1 when the whole tree is one leaf
     uint32_t nodeCount;           // 4 bytes
+    const QuantBounds* bounds;    // 8 bytes: per record; null: cells only
 };
 static_assert(std::is_trivially_copyable<CompactOctreeView>::value, "views are passed by value");
 
@@ -156,6 +185,15 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             obs.nodePopped(e.key(), e.tEnter, false);
             continue;
         }
+        // The geometry's bounds within the cell: a ray that crosses the cell but misses them
+        // meets nothing stored below it.
+        if (v.bounds) {
+            const Aabb tight = dequantize(loadReadOnly(v.bounds + e.index), e.box);
+            if (!intersectBox(q.slabs, tight, r.tmin, best.t, t0, t1)) {
+                obs.childSkipped(e.key(), SkipReason::OutsideBounds);
+                continue;
+            }
+        }
         obs.nodePopped(e.key(), e.tEnter, true);
         const CompactNode n = loadReadOnly(v.nodes + e.index);
         if (e.leaf) {
@@ -241,18 +279,21 @@ OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& c
 // --- host ------------------------------------------------------------------------------------
 
 struct CompactOctree {
-    std::vector<CompactNode> nodes;  // root at 0, children adjacent (breadth first)
+    std::vector<CompactNode> nodes;   // root at 0, children adjacent (breadth first)
+    std::vector<QuantBounds> bounds;  // per record; empty when built without bounds
     Aabb rootBox{};
     bool rootIsLeaf = false;
 };
 
 // Converts the canonical octree: internal nodes and non-empty leaves, in breadth-first order.
-// The leaf lists stay in the canonical tree's primIndices (shared).
-CompactOctree buildCompact(const Octree& tree);
+// The leaf lists stay in the canonical tree's primIndices (shared). With `scene`, also the
+// quantised bounds of what each record's cell holds (leaf: its triangles clipped to the cell,
+// its spheres' boxes cut to the cell; internal: the union of its children's), rounded outwards.
+CompactOctree buildCompact(const Octree& tree, const Scene* scene = nullptr);
 CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, PrimitivesView prims);
 
-// Registry entry. Arrays: 0 the node records, 1 the leaf index list; scalars: 0..2 the root box
-// (six floats, two a scalar), 3 rootIsLeaf.
+// Registry entry. Arrays: 0 the node records, 1 the leaf index list, 2 the quantised bounds;
+// scalars: 0..2 the root box (six floats, two a scalar), 3 rootIsLeaf.
 struct CompactLayout {
     static constexpr const char* kName = "compact";
     static constexpr const char* kSummary =
@@ -260,8 +301,9 @@ struct CompactLayout {
     static constexpr bool kUsesOctree = true;
     using View = CompactOctreeView;
 
-    static LayoutStorage convert(const std::shared_ptr<const Octree>& tree, const LayoutOptions& o);
-    static LayoutReport report(const Octree& tree, const LayoutOptions& o);
+    static LayoutStorage convert(const Scene&, const std::shared_ptr<const Octree>& tree,
+                                 const LayoutOptions& o);
+    static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
     static View view(const LayoutArrays& a, PrimitivesView prims) {
         View v;
         v.nodes = a.array<CompactNode>(0);
@@ -272,6 +314,7 @@ struct CompactLayout {
         v.rootBox = {{box[0], box[1], box[2]}, {box[3], box[4], box[5]}};
         v.rootIsLeaf = uint32_t(a.scalars[3]);
         v.nodeCount = uint32_t(a.count<CompactNode>(0));
+        v.bounds = a.array<QuantBounds>(2);
         return v;
     }
 };

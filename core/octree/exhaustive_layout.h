@@ -54,10 +54,11 @@ struct ExhaustiveLayout {
     static constexpr bool kUsesOctree = false;
     using View = ExhaustiveView;
 
-    static LayoutStorage convert(const std::shared_ptr<const Octree>&, const LayoutOptions&) {
+    static LayoutStorage convert(const Scene&, const std::shared_ptr<const Octree>&,
+                                 const LayoutOptions&) {
         return {};
     }
-    static LayoutReport report(const Octree& tree, const LayoutOptions&) {
+    static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions&) {
         const uint64_t primBytes =
             uint64_t(tree.primitiveCount) *
             (tree.kind == PrimKind::Triangles ? sizeof(Triangle) : sizeof(Sphere));

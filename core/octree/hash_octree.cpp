@@ -93,7 +93,7 @@ HashOctreeView hashView(const HashOctree& hash, const Octree& tree, PrimitivesVi
     return {hash.slots.data(), hash.bucketCount, hash.bucketSlots, tree.primIndices.data(), prims};
 }
 
-LayoutStorage HashLayout::convert(const std::shared_ptr<const Octree>& tree,
+LayoutStorage HashLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,
                                   const LayoutOptions& o) {
     auto owner = std::make_shared<HashStorage>();
     owner->tree = tree;
@@ -108,7 +108,7 @@ LayoutStorage HashLayout::convert(const std::shared_ptr<const Octree>& tree,
     return s;
 }
 
-LayoutReport HashLayout::report(const Octree& tree, const LayoutOptions& o) {
+LayoutReport HashLayout::report(const Scene&, const Octree& tree, const LayoutOptions& o) {
     auto start = std::chrono::steady_clock::now();
     const HashOctree h = buildHash(tree, o.hash);
     LayoutReport r;

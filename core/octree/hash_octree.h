@@ -78,8 +78,9 @@ struct HashLayout {
     static constexpr bool kUsesOctree = true;
     using View = HashOctreeView;
 
-    static LayoutStorage convert(const std::shared_ptr<const Octree>& tree, const LayoutOptions& o);
-    static LayoutReport report(const Octree& tree, const LayoutOptions& o);
+    static LayoutStorage convert(const Scene&, const std::shared_ptr<const Octree>& tree,
+                                 const LayoutOptions& o);
+    static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
     static View view(const LayoutArrays& a, PrimitivesView prims) {
         return {a.array<OctreeNode>(0), a.scalars[0], uint32_t(a.scalars[1]), a.array<uint32_t>(1),
                 prims};

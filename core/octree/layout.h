@@ -6,10 +6,11 @@
 //   kName, kSummary              its --accel name and a one-line description for help texts
 //   kUsesOctree                  whether it is converted from the canonical octree
 //   using View = ...             the plain, trivially copyable struct its kernels receive
-//   convert(tree, options)       host: the layout's arrays (LayoutStorage), from the canonical
-//                                octree (null when kUsesOctree is false); throws OctreeError
-//                                naming the bytes when a budget is exceeded
-//   report(tree, options)        host: its size and shape for `octrace info`, without
+//   convert(scene, tree, options) host: the layout's arrays (LayoutStorage), from the canonical
+//                                octree (null when kUsesOctree is false) over the scene's
+//                                primitives; throws OctreeError naming the bytes when a budget
+//                                is exceeded
+//   report(scene, tree, options) host: its size and shape for `octrace info`, without
 //                                allocating more than convert() would
 //   view(arrays, prims)          builds the View from a LayoutArrays of host or device pointers
 // and the traversal overloads closestHit(View, Ray, TraceCost&) / anyHit(View, Ray, TraceCost&).

@@ -31,8 +31,9 @@ struct LayoutDesc {
     const char* name;
     const char* summary;
     bool usesOctree;
-    LayoutStorage (*convert)(const std::shared_ptr<const Octree>& tree, const LayoutOptions& o);
-    LayoutReport (*report)(const Octree& tree, const LayoutOptions& o);
+    LayoutStorage (*convert)(const Scene& scene, const std::shared_ptr<const Octree>& tree,
+                             const LayoutOptions& o);
+    LayoutReport (*report)(const Scene& scene, const Octree& tree, const LayoutOptions& o);
 };
 
 // Every layout, in list order.

@@ -70,7 +70,7 @@ LinearOctreeView linearView(const LinearOctree& lin, const Octree& tree, Primiti
     return {lin.nodes.data(), lin.nodes.size(), tree.primIndices.data(), prims};
 }
 
-LayoutStorage LinearLayout::convert(const std::shared_ptr<const Octree>& tree,
+LayoutStorage LinearLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,
                                     const LayoutOptions& o) {
     auto owner = std::make_shared<LinearStorage>();
     owner->tree = tree;
@@ -83,7 +83,7 @@ LayoutStorage LinearLayout::convert(const std::shared_ptr<const Octree>& tree,
     return s;
 }
 
-LayoutReport LinearLayout::report(const Octree& tree, const LayoutOptions&) {
+LayoutReport LinearLayout::report(const Scene&, const Octree& tree, const LayoutOptions&) {
     const uint64_t indexBytes = tree.primIndices.size() * sizeof(uint32_t);
     LayoutReport r;
     r.bytes = saturatingAdd(linearBytes(tree.depth), indexBytes);

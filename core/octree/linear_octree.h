@@ -59,9 +59,10 @@ struct LinearLayout {
     static constexpr bool kUsesOctree = true;
     using View = LinearOctreeView;
 
-    static LayoutStorage convert(const std::shared_ptr<const Octree>& tree, const LayoutOptions& o);
+    static LayoutStorage convert(const Scene&, const std::shared_ptr<const Octree>& tree,
+                                 const LayoutOptions& o);
     // Computed from the depth alone: the complete array is not allocated.
-    static LayoutReport report(const Octree& tree, const LayoutOptions& o);
+    static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
     static View view(const LayoutArrays& a, PrimitivesView prims) {
         return {a.array<OctreeNode>(0), a.count<OctreeNode>(0), a.array<uint32_t>(1), prims};
     }

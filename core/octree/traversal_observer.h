@@ -11,10 +11,11 @@ namespace oct {
 
 // Why a node was not descended into.
 enum class SkipReason : uint8_t {
-    Missed = 0,     // the ray's segment does not meet the node's box
-    BeyondHit = 1,  // the box is entered beyond the closest hit found so far
-    Empty = 2,      // an empty leaf: nothing to hit
-    Absent = 3,     // no node stored there (linear: Invalid record; hash: key not found)
+    Missed = 0,         // the ray's segment does not meet the node's box
+    BeyondHit = 1,      // the box is entered beyond the closest hit found so far
+    Empty = 2,          // an empty leaf: nothing to hit
+    Absent = 3,         // no node stored there (linear: Invalid record; hash: key not found)
+    OutsideBounds = 4,  // the ray meets the cell but not the bounds of what the cell holds
 };
 
 // The calls a traversal makes. Keys are Morton keys (root 1, child = key << 3 | octant); a node

@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <map>
+#include <random>
 #include <string>
 
 #include "core/octree/built_scene.h"
@@ -72,6 +73,70 @@ void checkAgainstCanonical(const Octree& t) {
     for (size_t i = 0; i < seen.size(); ++i) EXPECT_EQ(seen[i], 1) << "record " << i;
 }
 
+bool inside(const Aabb& b, Vec3 p) {
+    return p.x >= b.lo.x && p.x <= b.hi.x && p.y >= b.lo.y && p.y <= b.hi.y && p.z >= b.lo.z &&
+           p.z <= b.hi.z;
+}
+
+// Every point of a leaf's primitives that lies in the leaf's cell lies in the dequantised
+// bounds of the leaf and of every ancestor: points on the triangles (vertices, edge points and
+// random interior points) and on the spheres, checked in float as the kernel compares.
+void checkBoundsContainGeometry(const Scene& scene, const Octree& t) {
+    const CompactOctree c = buildCompact(t, &scene);
+    ASSERT_EQ(c.bounds.size(), c.nodes.size());
+    std::mt19937_64 rng(5);
+    auto u = [&] { return float(double(rng() >> 11) * 0x1.0p-53); };
+    struct Item {
+        uint32_t index;
+        bool leaf;
+        Aabb cell;
+        std::vector<Aabb> bounds;  // this record's and its ancestors'
+    };
+    std::vector<Item> todo = {{0, c.rootIsLeaf, c.rootBox, {}}};
+    uint64_t checked = 0;
+    while (!todo.empty()) {
+        Item it = todo.back();
+        todo.pop_back();
+        it.bounds.push_back(dequantize(c.bounds[it.index], it.cell));
+        const CompactNode& rec = c.nodes[it.index];
+        if (!it.leaf) {
+            uint32_t next = rec.firstChild();
+            for (int i = 0; i < 8; ++i)
+                if (rec.childMask() & (1u << i))
+                    todo.push_back({next++, bool(rec.leafMask() & (1u << i)), childBox(it.cell, i),
+                                    it.bounds});
+            continue;
+        }
+        for (uint32_t k = 0; k < rec.primCount(); ++k) {
+            const uint32_t prim = t.primIndices[rec.primOffset() + k];
+            std::vector<Vec3> pts;
+            if (scene.kind == PrimKind::Triangles) {
+                const Triangle& tr = scene.triangles[prim];
+                pts = {tr.v0, tr.v1, tr.v2};
+                for (int n = 0; n < 200; ++n) {
+                    float a = u(), b = u();
+                    if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+                    pts.push_back(tr.v0 + (tr.v1 - tr.v0) * a + (tr.v2 - tr.v0) * b);
+                    pts.push_back(tr.v0 + (tr.v1 - tr.v0) * u());
+                }
+            } else {
+                const Sphere& sp = scene.spheres[prim];
+                for (int n = 0; n < 200; ++n) {
+                    Vec3 d = {u() - 0.5f, u() - 0.5f, u() - 0.5f};
+                    pts.push_back(sp.center + normalize(d) * sp.radius);
+                }
+            }
+            for (Vec3 p : pts) {
+                if (!inside(it.cell, p)) continue;
+                ++checked;
+                for (const Aabb& b : it.bounds)
+                    ASSERT_TRUE(inside(b, p)) << "prim " << prim << " point outside the bounds";
+            }
+        }
+    }
+    EXPECT_GT(checked, 1000u);
+}
+
 Scene mesh(const std::string& name) {
     return loadScene(std::string(OCT_SOURCE_DIR) + "/meshes/" + name);
 }
@@ -83,6 +148,16 @@ TEST(CompactOctree, HoldsTheCanonicalTreeExactly) {
             checkAgainstCanonical(buildOctree(mesh(m), p));
         }
     checkAgainstCanonical(buildOctree(makeGridCloud(4096, 3), {kMaxOctreeDepth, 1}));
+}
+
+TEST(CompactOctree, BoundsContainWhatEachCellHolds) {
+    for (const char* m : {"teapot.obj", "spider.obj", "cornell_box.obj"}) {
+        SCOPED_TRACE(m);
+        Scene s = mesh(m);
+        checkBoundsContainGeometry(s, buildOctree(s, {7, 8}));
+    }
+    Scene cloud = makeGridCloud(2000, 9);
+    checkBoundsContainGeometry(cloud, buildOctree(cloud, {kMaxOctreeDepth, 1}));
 }
 
 TEST(CompactOctree, WholeTreeInOneLeafAndEmptyLeavesAreNotStored) {
@@ -118,16 +193,17 @@ TEST(CompactOctree, WholeTreeInOneLeafAndEmptyLeavesAreNotStored) {
     checkAgainstCanonical(split);
 }
 
-TEST(CompactOctree, ReportsEightBytesANodeAndSharesTheLeafLists) {
+TEST(CompactOctree, ReportsSixteenBytesANodeAndSharesTheLeafLists) {
     Scene s = mesh("teapot.obj");
     auto tree = std::make_shared<const Octree>(buildOctree(s, {}));
     BuiltScene b = convertLayout(s, tree, findLayout("compact"), {});
     const uint64_t records = buildCompact(*tree).nodes.size();
-    EXPECT_EQ(b.layoutBytes(), records * 8 + tree->primIndices.size() * 4);
-    LayoutReport r = findLayout("compact").report(*tree, {});
+    // An 8-byte record and 8 bytes of bounds a node, and the canonical leaf lists.
+    EXPECT_EQ(b.layoutBytes(), records * 16 + tree->primIndices.size() * 4);
+    LayoutReport r = findLayout("compact").report(s, *tree, {});
     EXPECT_EQ(r.bytes, b.layoutBytes());
     // Against the paper's complete array of 48-byte records.
-    EXPECT_LT(r.bytes * 20, findLayout("linear").report(*tree, {}).bytes);
+    EXPECT_LT(r.bytes * 20, findLayout("linear").report(s, *tree, {}).bytes);
 }
 
 }  // namespace
