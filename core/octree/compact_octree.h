@@ -148,6 +148,30 @@ OCT_HD inline void halfSlabs(float o, float inv, float lo, float mid, float hi, 
     farT[1] = maxf(tm, th) * kSlabFarScale;
 }
 
+// Set bits of an 8-bit mask (SWAR: popcount is a library call on x86-64 without -mpopcnt).
+OCT_HD inline uint32_t bitCount8(uint32_t x) {
+    x = x - ((x >> 1) & 0x55u);
+    x = (x & 0x33u) + ((x >> 2) & 0x33u);
+    return (x + (x >> 4)) & 0x0fu;
+}
+
+// The mask whose bit j is bit (j ^ flip) of m, for an 8-bit m and flip in [0, 8).
+OCT_HD inline uint32_t xorPermute(uint32_t m, int flip) {
+    if (flip & 1) m = ((m & 0x55u) << 1) | ((m >> 1) & 0x55u);
+    if (flip & 2) m = ((m & 0x33u) << 2) | ((m >> 2) & 0x33u);
+    if (flip & 4) m = ((m & 0x0fu) << 4) | ((m >> 4) & 0x0fu);
+    return m;
+}
+
+// Index of the highest set bit of a non-zero mask.
+OCT_HD inline int highestBit(uint32_t m) {
+#if defined(__CUDA_ARCH__)
+    return 31 - __clz(m);
+#else
+    return 31 - __builtin_clz(m);
+#endif
+}
+
 }  // namespace compact_detail
 
 template <bool kAnyHit, class Obs>
@@ -215,43 +239,55 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                                   nearY, farY);
         compact_detail::halfSlabs(q.slabs.org.z, q.slabs.inv.z, e.box.lo.z, mid.z, e.box.hi.z,
                                   nearZ, farZ);
-        // Eight lanes: octant i takes the upper half along x when bit 0 is set, and so on.
+        // Eight lanes, octant i taking the upper half along x when bit 0 is set, and so on,
+        // laid out as arrays so the vectoriser sees plain element-wise min/max (SoA lanes).
+        const float nx[8] = {nearX[0], nearX[1], nearX[0], nearX[1],
+                             nearX[0], nearX[1], nearX[0], nearX[1]};
+        const float ny[8] = {nearY[0], nearY[0], nearY[1], nearY[1],
+                             nearY[0], nearY[0], nearY[1], nearY[1]};
+        const float nz[8] = {nearZ[0], nearZ[0], nearZ[0], nearZ[0],
+                             nearZ[1], nearZ[1], nearZ[1], nearZ[1]};
+        const float fx[8] = {farX[0], farX[1], farX[0], farX[1],
+                             farX[0], farX[1], farX[0], farX[1]};
+        const float fy[8] = {farY[0], farY[0], farY[1], farY[1],
+                             farY[0], farY[0], farY[1], farY[1]};
+        const float fz[8] = {farZ[0], farZ[0], farZ[0], farZ[0],
+                             farZ[1], farZ[1], farZ[1], farZ[1]};
         float enter[8], exit[8];
         const float tLo = r.tmin, tHi = best.t;
         OCT_SIMD_LOOP
         for (int i = 0; i < 8; ++i) {
-            enter[i] = maxf(maxf(maxf(tLo, nearX[i & 1]), nearY[(i >> 1) & 1]), nearZ[i >> 2]);
-            exit[i] = minf(minf(minf(tHi, farX[i & 1]), farY[(i >> 1) & 1]), farZ[i >> 2]);
+            enter[i] = maxf(maxf(maxf(tLo, nx[i]), ny[i]), nz[i]);
+            exit[i] = minf(minf(minf(tHi, fx[i]), fy[i]), fz[i]);
+        }
+        uint32_t hitMask = 0;
+        for (int i = 0; i < 8; ++i) hitMask |= uint32_t(enter[i] <= exit[i]) << i;
+        hitMask &= mask;
+        cost.nodesVisited += compact_detail::bitCount8(mask);
+        if (kKeys) {
+            for (int i = 0; i < 8; ++i) {
+                const uint64_t k = childKey(e.key(), i);
+                if (mask & (1u << i))
+                    obs.boxTested(k, e.depth() + 1, childBox(e.box, i), (hitMask >> i) & 1u,
+                                  enter[i], exit[i]);
+                else
+                    obs.childSkipped(k, SkipReason::Empty);
+            }
         }
         // Push the hit children far to near, so the nearest is popped first. Octant order
         // j ^ dirMask (ascending j) is front to back for any ray: along each axis the ray
         // crosses from the half it starts in to the other, never back, so a child whose octant
-        // differs from another's in bits the ray flips later cannot be entered earlier.
-        // Pushing j = 7 .. 0 needs no sort. A child's record is firstChild + the number of
-        // stored octants below it (a prefix count: popcount would be a library call on x86-64
-        // without -mpopcnt).
-        uint32_t rank[8];
-        for (uint32_t i = 0, below = n.firstChild(); i < 8; ++i) {
-            rank[i] = below;
-            below += (mask >> i) & 1u;
-        }
-        for (int j = 7; j >= 0; --j) {
+        // differs from another's in bits the ray flips later cannot be entered earlier. Bit j
+        // of `order` is octant j ^ dirMask; its set bits from the highest down are the pushes,
+        // no sort. A child's record is firstChild + the stored octants below it.
+        for (uint32_t order = compact_detail::xorPermute(hitMask, dirMask); order;) {
+            const int j = compact_detail::highestBit(order);
+            order ^= 1u << j;
             const int i = j ^ dirMask;
-            if (!(mask & (1u << i))) {
-                if (kKeys) obs.childSkipped(childKey(e.key(), i), SkipReason::Empty);
-                continue;
-            }
-            ++cost.nodesVisited;
-            const bool hit = enter[i] <= exit[i];
-            if (kKeys) {
-                obs.boxTested(childKey(e.key(), i), e.depth() + 1, childBox(e.box, i), hit,
-                              enter[i], exit[i]);
-            }
-            if (!hit) continue;
             Entry& c = stack[top++];
             c.box = childBox(e.box, i);
             c.tEnter = enter[i];
-            c.index = rank[i];
+            c.index = n.firstChild() + compact_detail::bitCount8(mask & ((1u << i) - 1u));
             c.leaf = (leafMask >> i) & 1u;
             c.setKey(childKey(e.key(), i), e.depth() + 1);
         }
