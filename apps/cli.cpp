@@ -7,6 +7,7 @@
 
 #include "core/io/output_file.h"
 #include "core/render/frame.h"
+#include "core/scene/scene_formats.h"
 #include "cpu_ref/render_cpu.h"
 
 namespace oct {
@@ -27,10 +28,7 @@ LayoutOptions SceneOptions::layoutOptions() const {
 }
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("scene", o.path,
-                   "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or a generated grid "
-                   "cloud grid:N[:SEED]")
-        ->required();
+    cmd.add_option("scene", o.path, sceneFormatsHelp())->required();
     cmd.add_option("--max-depth", o.maxDepth, "Deepest octree level (root = 0), 0..21")
         ->capture_default_str()
         ->check(CLI::Range(0, kMaxOctreeDepth));

@@ -1,7 +1,7 @@
 // Scene loading: a file (or a generator spec) in, a Scene of flat primitive arrays out, with an
 // account in scene.report of everything that was dropped on the way.
 //
-// Formats, chosen by the extension (case-insensitive):
+// Formats, chosen by the extension (case-insensitive) from the table of scene_formats.h:
 //  - .obj .ply .off .stl: triangle meshes read through OpenMesh's readers into our own importer,
 //    which keeps every face in file order, including the non-manifold and duplicated faces an
 //    OpenMesh mesh would reject. Polygons are fan-triangulated (v0, vi, vi+1) in face order;
@@ -15,6 +15,8 @@
 //  - "grid:N" or "grid:N:SEED": the generated grid cloud of grid_cloud.h (seed 1 by default).
 //
 // Sphere radius of point clouds: LoadOptions::radius when > 0, else defaultPointRadius().
+//
+// How the loaders read and check each format: loader_detail.h and the format_*.cpp files.
 //
 // Every failure is a SceneError with a one-line message naming the path, the reason and what to
 // do: missing or unreadable file, a directory or other non-regular file, an unknown extension, a
