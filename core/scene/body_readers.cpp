@@ -80,14 +80,14 @@ bool ByteReader::fill(size_t n) {
 // ---------------------------------------------------------------------------------------------
 // AsciiBody
 
-double AsciiBody::number() {
+float AsciiBody::number() {
     std::string token = next();
     char* end = nullptr;
     double value = std::strtod(token.c_str(), &end);
     if (token.find_first_not_of("0123456789+-.eE") != std::string::npos || *end != '\0' ||
         !std::isfinite(value) || std::fabs(value) > FLT_MAX)
         refuse(token, "a finite number");
-    return value;
+    return std::strtof(token.c_str(), nullptr);
 }
 
 long long AsciiBody::integer(bool signedInt) {
@@ -108,9 +108,22 @@ uint64_t AsciiBody::count() {
     return uint64_t(value);
 }
 
+std::vector<std::string> AsciiBody::restOfLine() {
+    std::vector<std::string> tokens;
+    std::string token;
+    while (line_ >> token && !(syntax_.hashComments && token[0] == '#')) tokens.push_back(token);
+    skipRestOfLine();
+    return tokens;
+}
+
+void AsciiBody::setRestOfLine(const std::string& text) {
+    line_.str(text);
+    line_.clear();
+}
+
 std::string AsciiBody::next() {
     std::string token;
-    while (!(line_ >> token)) {
+    while (!(line_ >> token) || (syntax_.hashComments && token[0] == '#')) {
         std::string text;
         if (!std::getline(in_, text))
             throw SceneError("cannot load " + inQuotes(path_) + ": it ends at line " +
@@ -126,9 +139,8 @@ std::string AsciiBody::next() {
 void AsciiBody::refuse(const std::string& token, const char* expected) const {
     std::string shown = token.size() > 40 ? token.substr(0, 40) + "..." : token;
     throw SceneError("cannot load " + inQuotes(path_) + ": line " + std::to_string(lineNo_) +
-                     " holds " + inQuotes(shown) + " where OpenMesh's ASCII " + format_ +
-                     " reader needs " + expected +
-                     " (it would silently misread the rest of the file); fix that value");
+                     " holds " + inQuotes(shown) + " where " + syntax_.reader + " needs " +
+                     expected + syntax_.refusalNote + "; fix that value");
 }
 
 }  // namespace oct::scene_detail

@@ -8,6 +8,7 @@
 #include <istream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace oct::scene_detail {
@@ -39,22 +40,29 @@ private:
     uint64_t pos_;
 };
 
-// Walks the body of an ASCII PLY or OFF file the way OpenMesh's reader consumes it, and checks
-// what that reader does not: every value it parses with operator>> must be a number of the kind
-// it reads there (an integer where it reads an int, within 32 bits), and the file must hold
-// every declared element. After a token it cannot parse (nan, inf, 1e39, 0x10, a '#' comment),
-// or at the end of a short file, its stream fails and every later value silently repeats the
-// last one read: a truncated face list ends in copies of its last face. Such files are
-// refused, naming the line.
+// How an ASCII body is read, and what a refused value's message says.
+struct AsciiSyntax {
+    std::string reader;         // who needs the value: "OpenMesh's ASCII PLY reader"
+    std::string refusalNote;    // why such a value is refused, appended to the message
+    bool hashComments = false;  // '#' starts a comment that runs to the end of the line
+};
+
+// Walks the body of an ASCII PLY or OFF file token by token and checks every value: it must be
+// a number of the kind read there (an integer where an int is read, within 32 bits), and the
+// file must hold every declared element. For PLY it checks what OpenMesh's reader, which then
+// reads the file, does not: after a token it cannot parse (nan, inf, 1e39, 0x10, a '#'
+// comment), or at the end of a short file, its stream fails and every later value silently
+// repeats the last one read; a truncated face list ends in copies of its last face. For OFF,
+// which octrace reads itself, it is the reader. Such files are refused, naming the line.
 class AsciiBody {
 public:
-    AsciiBody(std::istream& in, uint64_t linesBefore, const std::string& path,
-              const std::string& format)
-        : in_(in), lineNo_(linesBefore), path_(path), format_(format) {}
+    AsciiBody(std::istream& in, uint64_t linesBefore, const std::string& path, AsciiSyntax syntax)
+        : in_(in), lineNo_(linesBefore), path_(path), syntax_(std::move(syntax)) {}
 
     // A value read with `>> float`: only the characters that parser accepts, all of them
-    // consumed, finite and within float range (it fails on overflow).
-    double number();
+    // consumed, finite and within float range (it fails on overflow). Returns what `>> float`
+    // gives (strtof).
+    float number();
     // A value read with `>> int` (signedInt) or `>> unsigned int`: decimal digits with an
     // optional sign, within what that type's parser accepts.
     long long integer(bool signedInt = false);
@@ -65,6 +73,12 @@ public:
         line_.str(std::string());
         line_.clear();
     }
+    // The tokens left on the current line, up to a comment; the line is done after it.
+    std::vector<std::string> restOfLine();
+    // Makes `text` the rest of the current line (the header line of an OFF file, whose counts
+    // may follow the keyword).
+    void setRestOfLine(const std::string& text);
+    uint64_t lineNo() const { return lineNo_; }
 
 private:
     std::string next();
@@ -74,7 +88,7 @@ private:
     uint64_t lineNo_;
     std::istringstream line_;
     std::string path_;
-    std::string format_;
+    AsciiSyntax syntax_;
 };
 
 }  // namespace oct::scene_detail

@@ -58,7 +58,9 @@ void walkPlyBinary(const std::string& path, const PlyHeader& h) {
 }
 
 void walkPlyAscii(std::istream& in, const std::string& path, const PlyHeader& h) {
-    AsciiBody body(in, h.headerLines, path, "PLY");
+    AsciiBody body(
+        in, h.headerLines, path,
+        {"OpenMesh's ASCII PLY reader", " (it would silently misread the rest of the file)"});
     for (const PlyElement& e : h.elements) {
         for (uint64_t i = 0; i < e.count; ++i)
             for (const PlyProperty& p : e.properties) {

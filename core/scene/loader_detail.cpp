@@ -41,4 +41,10 @@ uint64_t fileSize(const std::string& path) {
     return size;
 }
 
+size_t stripUtf8Bom(std::string& firstLine) {
+    if (firstLine.compare(0, 3, kUtf8Bom) != 0) return 0;
+    firstLine.erase(0, 3);
+    return 3;
+}
+
 }  // namespace oct::scene_detail

@@ -32,6 +32,12 @@ void trimLine(std::string& s);                        // the same trim as OpenMe
 std::ifstream openOrThrow(const std::string& path, std::ios::openmode mode = std::ios::in);
 uint64_t fileSize(const std::string& path);
 
+// Text files may begin with a UTF-8 byte-order mark (Windows editors write one). It is not
+// part of the first line's text: stripUtf8Bom removes it from the start of `firstLine` and
+// returns how many bytes it removed (3 or 0).
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+size_t stripUtf8Bom(std::string& firstLine);
+
 // ---------------------------------------------------------------------------------------------
 // What OpenMesh's reader hands over, recorded without interpretation (openmesh_reader.cpp).
 

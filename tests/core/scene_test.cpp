@@ -75,6 +75,8 @@ protected:
         return p.string();
     }
     std::string dir() const { return dir_.string(); }
+    // The plain OFF file of kOffQuadAndTriangle (a quad and a triangle), loaded.
+    Scene plainOff();
 
     // Loads and expects a SceneError whose message names the path and contains `what`.
     void expectError(const std::string& path, const std::string& what,
@@ -273,12 +275,6 @@ TEST_F(SceneFiles, TruncatedFilesAreRefused) {
     expectError(write("short_binary.ply", b.data), "truncated");
 }
 
-TEST_F(SceneFiles, OffCommentIsRefusedNotMisread) {
-    std::string path =
-        write("comment.off", "OFF\n3 1 0\n# a comment\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-    expectError(path, "line 3");
-}
-
 TEST_F(SceneFiles, Off) {
     std::string path = write("mesh.off",
                              "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
@@ -330,6 +326,67 @@ TEST_F(SceneFiles, StlBinary) {
 TEST_F(SceneFiles, ExtensionIsCaseInsensitive) {
     Scene s = loadScene(write("UPPER.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_EQ(s.primitiveCount(), 1u);
+}
+
+// Two loads of the same scene: the same primitives in the same order, the same report.
+void expectSameScene(const Scene& a, const Scene& b) {
+    ASSERT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.report.format, b.report.format);
+    EXPECT_EQ(a.report.verticesRead, b.report.verticesRead);
+    EXPECT_EQ(a.report.facesRead, b.report.facesRead);
+    EXPECT_EQ(a.report.totalDropped(), b.report.totalDropped());
+    ASSERT_EQ(a.primitiveCount(), b.primitiveCount());
+    for (size_t i = 0; i < a.triangles.size(); ++i)
+        EXPECT_TRUE(
+            triangleIs(a.triangles[i], b.triangles[i].v0, b.triangles[i].v1, b.triangles[i].v2))
+            << "triangle " << i;
+    EXPECT_EQ(a.sourceFace, b.sourceFace);
+    for (size_t i = 0; i < a.spheres.size(); ++i) {
+        EXPECT_TRUE(sameVec(a.spheres[i].center, b.spheres[i].center)) << "sphere " << i;
+        EXPECT_EQ(a.spheres[i].radius, b.spheres[i].radius) << "sphere " << i;
+    }
+}
+
+const char* kOffQuadAndTriangle =
+    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
+    "4 0 1 2 3\n3 4 1 3\n";
+
+Scene SceneFiles::plainOff() {
+    return loadScene(write("plain.off", std::string("OFF\n5 2 0\n") + kOffQuadAndTriangle));
+}
+
+TEST_F(SceneFiles, OffCommentsAreSkipped) {
+    // Geomview's OFF: '#' starts a comment that runs to the end of the line.
+    Scene s = loadScene(write("comments.off",
+                              "OFF\n# made by hand\n5 2 0\n# vertices\n0 0 0\n1 0 0 # B\n"
+                              "1 1 0\n\n0 1 0\n0 0 1\n# faces\n4 0 1 2 3 # a quad\n"
+                              "# a triangle\n3 4 1 3\n# the end\n"));
+    ASSERT_EQ(s.primitiveCount(), 3u);
+    expectSameScene(s, plainOff());
+}
+
+TEST_F(SceneFiles, OffCountsOnTheKeywordLine) {
+    Scene s = loadScene(write("keyword.off", std::string("OFF 5 2 0\n") + kOffQuadAndTriangle));
+    ASSERT_EQ(s.primitiveCount(), 3u);
+    EXPECT_TRUE(triangleIs(s.triangles[2], kE, kB, kC));
+    expectSameScene(s, plainOff());
+}
+
+TEST_F(SceneFiles, OffFaceColoursWithoutTheCPrefix) {
+    // A face line may end in a colour (Geomview's OFF): a colour-map index, RGB or RGBA.
+    for (const char* colours : {"255 0 0|0.5 0.5 0.5 1", "7|2", "0 0 255 255|"}) {
+        const std::string c = colours;
+        const std::string first = c.substr(0, c.find('|')), second = c.substr(c.find('|') + 1);
+        Scene s = loadScene(write("colours.off",
+                                  "OFF\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
+                                  "4 0 1 2 3 " +
+                                      first + "\n3 4 1 3 " + second + "\n"));
+        SCOPED_TRACE(colours);
+        expectSameScene(s, plainOff());
+    }
+    // Anything else after the indices is not a colour: the vertex count is probably wrong.
+    expectError(write("two.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 5 6\n"), "line 6");
+    expectError(write("word.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 red\n"), "red");
 }
 
 TEST_F(SceneFiles, ReaderMessagesDoNotLeakToStderr) {

@@ -251,6 +251,10 @@ add("off_binary_face_list_huge.off",
 add("off_4d.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n", "error:4OFF")
 add("off_index_overflow.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 99999999999\n",
     "error:99999999999")
+# A face line ends in an optional colour (a colour-map index, RGB or RGBA); anything else after
+# the indices means the vertex count is wrong.
+add("off_face_colour_two_values.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 2 5 6\n", "error:line 6")
+add("off_face_colour_word.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 2 red\n", "error:red")
 
 # --- STL ------------------------------------------------------------------------------------
 
