@@ -1,5 +1,11 @@
 // Wavefront OBJ: a polygon mesh of "v" and "f" lines, read by OpenMesh's OBJ reader after a
 // survey of the same lines, parsed as that reader parses them (loader_detail.h says why).
+//
+// Two things of the format OpenMesh's reader does not know are settled first, by ObjLines: a
+// UTF-8 byte-order mark before the first line (it would make the first keyword unknown and
+// the reader drop that line, shifting every later vertex number), and statements continued
+// over several lines with a final backslash. A file with either is handed to OpenMesh as a
+// rewritten copy holding the same statements on one line each.
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +19,45 @@ namespace oct::scene_detail {
 namespace {
 
 namespace fs = std::filesystem;
+
+// The logical lines of an OBJ file. Wavefront's OBJ specification makes '\' at the end of a
+// line the line-continuation character; the backslash becomes a blank and the next line is
+// joined on. A comment line is never continued, so that a comment ending in a Windows path
+// ("# C:\models\") cannot swallow the statement after it. A UTF-8 byte-order mark at the start
+// of the file is dropped.
+class ObjLines {
+public:
+    explicit ObjLines(std::istream& in) : in_(in) {}
+
+    // The next logical line, and the number of its first physical line; false at the end.
+    bool next(std::string& line, uint64_t& firstLineNo) {
+        if (!std::getline(in_, line)) return false;
+        firstLineNo = ++lineNo_;
+        if (lineNo_ == 1 && stripUtf8Bom(line) > 0) rewritten_ = true;
+        const size_t start = line.find_first_not_of(" \t\r\n");
+        if (start != std::string::npos && line[start] == '#') return true;
+        for (size_t last = line.find_last_not_of(" \t\r\n");
+             last != std::string::npos && line[last] == '\\';
+             last = line.find_last_not_of(" \t\r\n")) {
+            rewritten_ = true;
+            line.resize(last);
+            line += ' ';
+            std::string more;
+            if (!std::getline(in_, more)) break;
+            ++lineNo_;
+            line += more;
+        }
+        return true;
+    }
+    uint64_t lastLineNo() const { return lineNo_; }  // of the last physical line read
+    // Whether a line so far was not what OpenMesh's reader would read there.
+    bool rewritten() const { return rewritten_; }
+
+private:
+    std::istream& in_;
+    uint64_t lineNo_ = 0;
+    bool rewritten_ = false;
+};
 
 // One OBJ "f" line, decided as OpenMesh's OBJ reader decides it: the first component of each
 // corner is the vertex (negative = relative to the "v" lines so far); repeated vertices are
@@ -78,15 +123,16 @@ void checkMaterialFile(const std::string& path, std::istringstream& rest) {
                      "remove the 'mtllib' line");
 }
 
-Survey surveyObj(const std::string& path) {
+// `rewrite` is set when OpenMesh must read the copy of rewrittenObj() instead of the file.
+Survey surveyObj(const std::string& path, bool& rewrite) {
     std::ifstream in = openOrThrow(path);
+    ObjLines lines(in);
     Survey s;
     s.isObj = true;
     s.surveyed = true;
     std::string line, keyword;
     uint64_t lineNo = 0;
-    while (std::getline(in, line)) {
-        ++lineNo;
+    while (lines.next(line, lineNo)) {
         trimLine(line);
         if (line.empty() || line[0] == '#') continue;
         std::istringstream stream(line);
@@ -101,14 +147,37 @@ Survey surveyObj(const std::string& path) {
             checkMaterialFile(path, stream);
         }
     }
+    rewrite = lines.rewritten();
     return s;
+}
+
+// The file's logical lines, one a line, each followed by as many empty lines as it had
+// continuation lines, so that line numbers stay those of the file. Its "mtllib" lines are
+// left empty: OpenMesh's reader would look for the library next to the file it read before
+// (it reads a stream without knowing its folder), and octrace uses no materials.
+void writeRewrittenObj(const std::string& path, std::ostream& out) {
+    std::ifstream in = openOrThrow(path);
+    ObjLines lines(in);
+    std::string line, keyword;
+    uint64_t lineNo = 0;
+    while (lines.next(line, lineNo)) {
+        std::istringstream stream(line);
+        if (!(stream >> keyword && keyword == "mtllib")) out << line;
+        out << std::string(size_t(lines.lastLineNo() - lineNo + 1), '\n');
+    }
 }
 
 }  // namespace
 
 Scene loadObj(const std::string& path, const LoadOptions&) {
-    Survey survey = surveyObj(path);
-    return buildMeshScene(path, "obj", readWithOpenMesh(path, "OBJ"), std::move(survey));
+    bool rewrite = false;
+    Survey survey = surveyObj(path, rewrite);
+    if (!rewrite)
+        return buildMeshScene(path, "obj", readWithOpenMesh(path, "OBJ"), std::move(survey));
+    std::stringstream copy;
+    writeRewrittenObj(path, copy);
+    return buildMeshScene(path, "obj", readWithOpenMesh(copy, "obj", path, "OBJ"),
+                          std::move(survey));
 }
 
 }  // namespace oct::scene_detail

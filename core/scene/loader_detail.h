@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,11 @@ struct RawMesh {
 // are serialised (OpenMesh's readers are process-wide singletons with per-read state) and the
 // reader's console output is captured into the SceneError of a failed read.
 RawMesh readWithOpenMesh(const std::string& path, const std::string& format);
+// The same from a stream holding the file's bytes as the reader for `extension` should see them
+// (a copy rewritten where the file itself would be misread); `path` names it in messages. The
+// stream must be seekable: OpenMesh's OBJ and PLY readers seek in it.
+RawMesh readWithOpenMesh(std::istream& in, const std::string& extension, const std::string& path,
+                         const std::string& format);
 
 // ---------------------------------------------------------------------------------------------
 // Surveys: what the file holds and which faces OpenMesh's reader will hand over.

@@ -131,17 +131,18 @@ std::mutex& openMeshMutex() {
     return mutex;
 }
 
-}  // namespace
-
-RawMesh readWithOpenMesh(const std::string& path, const std::string& format) {
+// Runs read(importer, options) under the lock and the output capture; `path` and `format`
+// name the file in a failure's SceneError.
+template <class Read>
+RawMesh readLocked(const std::string& path, const std::string& format, Read read) {
     std::lock_guard<std::mutex> lock(openMeshMutex());
     RawMeshImporter importer;
     ReaderOutputCapture capture;
-    // Default options suffice: the PLY and OFF headers and the STL file size select binary mode.
+    // Default options suffice: the PLY header and the STL file size select binary mode.
     OpenMesh::IO::Options options;
     bool ok = false;
     try {
-        ok = OpenMesh::IO::IOManager().read(path, importer, options);
+        ok = read(importer, options);
     } catch (const std::bad_alloc&) {
         throw;
     } catch (const std::exception& e) {
@@ -155,6 +156,21 @@ RawMesh readWithOpenMesh(const std::string& path, const std::string& format) {
                          "; check that it is a valid " + format + " file");
     }
     return std::move(importer.mesh);
+}
+
+}  // namespace
+
+RawMesh readWithOpenMesh(const std::string& path, const std::string& format) {
+    return readLocked(path, format, [&](RawMeshImporter& importer, OpenMesh::IO::Options& o) {
+        return OpenMesh::IO::IOManager().read(path, importer, o);
+    });
+}
+
+RawMesh readWithOpenMesh(std::istream& in, const std::string& extension, const std::string& path,
+                         const std::string& format) {
+    return readLocked(path, format, [&](RawMeshImporter& importer, OpenMesh::IO::Options& o) {
+        return OpenMesh::IO::IOManager().read(in, extension, importer, o);
+    });
 }
 
 }  // namespace oct::scene_detail

@@ -389,6 +389,18 @@ TEST_F(SceneFiles, OffFaceColoursWithoutTheCPrefix) {
     expectError(write("word.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 red\n"), "red");
 }
 
+TEST_F(SceneFiles, ObjLineContinuation) {
+    // Wavefront OBJ: a line ending in a backslash continues on the next one. A comment is
+    // never continued, so a path in it cannot swallow the next statement.
+    Scene s = loadScene(write("cont.obj",
+                              "# C:\\models\\\nv 0 0 0\nv 1 \\\n 0 0\nv 1 1 0\nv 0 1 0\n"
+                              "v 0 0 1\nf 1 2 \\\r\n3 4\nf 5 \\\n2 \\\n4\n"));
+    Scene plain = loadScene(
+        write("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 5 2 4\n"));
+    ASSERT_EQ(s.primitiveCount(), 3u);
+    expectSameScene(s, plain);
+}
+
 TEST_F(SceneFiles, ReaderMessagesDoNotLeakToStderr) {
     std::string path = write("noisy.ply", plyHeader("ascii") +
                                               "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
