@@ -65,6 +65,17 @@ bool ByteReader::skip(uint64_t n) {
     return true;
 }
 
+bool ByteReader::copy(uint64_t n, std::ostream& out) {
+    char chunk[1 << 14];
+    while (n > 0) {
+        const size_t k = size_t(std::min<uint64_t>(n, sizeof chunk));
+        if (!read(chunk, k)) return false;
+        out.write(chunk, std::streamsize(k));
+        n -= k;
+    }
+    return true;
+}
+
 bool ByteReader::fill(size_t n) {
     if (buffer_.size() - head_ >= n) return true;
     buffer_.erase(buffer_.begin(), buffer_.begin() + std::ptrdiff_t(head_));
@@ -133,6 +144,7 @@ std::string AsciiBody::next() {
         line_.str(text);
         line_.clear();
     }
+    if (echo_) *echo_ << token << ' ';
     return token;
 }
 

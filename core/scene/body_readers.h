@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <fstream>
 #include <istream>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -29,6 +30,7 @@ public:
     ByteReader(const std::string& path, uint64_t start);
     bool read(void* out, size_t n);
     bool skip(uint64_t n);
+    bool copy(uint64_t n, std::ostream& out);  // read() n bytes into out
     uint64_t position() const { return pos_; }
 
 private:
@@ -79,6 +81,8 @@ public:
     // may follow the keyword).
     void setRestOfLine(const std::string& text);
     uint64_t lineNo() const { return lineNo_; }
+    // Writes every token read from now on, each followed by a space, to *out (nullptr: none).
+    void echoTo(std::ostream* out) { echo_ = out; }
 
 private:
     std::string next();
@@ -89,6 +93,7 @@ private:
     std::istringstream line_;
     std::string path_;
     AsciiSyntax syntax_;
+    std::ostream* echo_ = nullptr;
 };
 
 }  // namespace oct::scene_detail

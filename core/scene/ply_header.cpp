@@ -49,10 +49,12 @@ public:
     PlyHeader parse() {
         std::string first;
         std::getline(in_, first);
+        PlyHeader h;
+        h.bomBytes = stripUtf8Bom(first);
+        h.rewriteForOpenMesh = h.bomBytes > 0;  // its reader would not find "ply"
         trimLine(first);
         if (first != "ply" && first != "PLY")
             refuse("its first line is not 'ply'; check that it is a PLY file");
-        PlyHeader h;
         std::string keyword = token("the format line"), format = token("the format line");
         if (keyword != "format")
             refuse(
@@ -75,7 +77,7 @@ public:
             } else if (keyword == "element") {
                 addElement(h);
             } else if (keyword == "property") {
-                addProperty(h);
+                addProperty(h, uint64_t(beforeKeyword));
             }  // any other token is skipped alone, as OpenMesh skips it
             beforeKeyword = in_.tellg();
         }
@@ -117,7 +119,7 @@ private:
         h.elements.push_back(e);
     }
 
-    void addProperty(PlyHeader& h) {
+    void addProperty(PlyHeader& h, uint64_t declarationStart) {
         if (h.elements.empty())
             refuse("a 'property' comes before any 'element' (OpenMesh's reader would crash)");
         PlyElement& e = h.elements.back();
@@ -127,21 +129,14 @@ private:
             const std::string countType = token("the list's count type");
             const std::string entryType = token("the list's entry type");
             p.name = token("the list's name");
-            if (!(e.name == "face" && (p.name == "vertex_indices" || p.name == "vertex_index")))
+            if (e.name != "face")
                 refuse("list property " + inQuotes(p.name) + " of element " + inQuotes(e.name) +
                        " is not supported by OpenMesh's PLY reader; remove it from the file");
-            if (countType != "uint8" && countType != "uchar" && countType != "uint16" &&
-                countType != "int")
-                refuse("the count type " + inQuotes(countType) + " of list " + inQuotes(p.name) +
-                       " is not one OpenMesh reads (uchar, uint8, uint16, int)");
-            p.countType = plyTypeOf(countType, countType);
-            p.type = plyTypeOf(entryType, entryType);
-            if (p.type == PlyType::None || plyIsFloat(p.type))
-                refuse("the entry type " + inQuotes(entryType) + " of list " + inQuotes(p.name) +
-                       " is not an integer type");
-            p.read = PlyRead::Indices;
-            for (const PlyProperty& other : e.properties)
-                if (other.read == PlyRead::Indices) refuse("element 'face' has two index lists");
+            if (p.name != "vertex_indices" && p.name != "vertex_index") {
+                addOtherFaceList(h, p, countType, entryType);
+            } else {
+                addIndexList(h, p, countType, entryType);
+            }
         } else {
             const std::string second = token("the property's name");
             p.type = plyTypeOf(first, second);
@@ -151,7 +146,49 @@ private:
             p.name = plyTypeOf(first, first) != PlyType::None ? second : first;
             p.read = plyReadOf(e.name, p.name, p.type);
         }
+        p.declarationStart = declarationStart;
+        p.declarationEnd = uint64_t(in_.tellg());
         e.properties.push_back(p);
+    }
+
+    // A face's list of vertex indices: what OpenMesh reads, so only the types it reads.
+    // OpenMesh forgets the face properties declared before it ("Custom face Properties defined,
+    // before 'vertex_indices' property was defined. They will be skipped") but not their
+    // values, which it then reads as the list: such a file is rewritten without them.
+    void addIndexList(PlyHeader& h, PlyProperty& p, const std::string& countType,
+                      const std::string& entryType) {
+        PlyElement& e = h.elements.back();
+        if (countType != "uint8" && countType != "uchar" && countType != "uint16" &&
+            countType != "int")
+            refuse("the count type " + inQuotes(countType) + " of list " + inQuotes(p.name) +
+                   " is not one OpenMesh reads (uchar, uint8, uint16, int)");
+        p.countType = plyTypeOf(countType, countType);
+        p.type = plyTypeOf(entryType, entryType);
+        if (p.type == PlyType::None || plyIsFloat(p.type))
+            refuse("the entry type " + inQuotes(entryType) + " of list " + inQuotes(p.name) +
+                   " is not an integer type");
+        p.read = PlyRead::Indices;
+        for (const PlyProperty& other : e.properties)
+            if (other.read == PlyRead::Indices) refuse("element 'face' has two index lists");
+        if (!e.properties.empty()) h.rewriteForOpenMesh = true;
+    }
+
+    // Any other list of a face (texture coordinates, as MeshLab and Blender write them): octrace
+    // does not use it, and OpenMesh's reader cannot skip it (it reads one value for the whole
+    // list, or refuses the header for some count types), so it is checked here and left out of
+    // what OpenMesh reads.
+    void addOtherFaceList(PlyHeader& h, PlyProperty& p, const std::string& countType,
+                          const std::string& entryType) {
+        p.countType = plyTypeOf(countType, countType);
+        if (p.countType == PlyType::None || plyIsFloat(p.countType))
+            refuse("the count type " + inQuotes(countType) + " of list " + inQuotes(p.name) +
+                   " is not an integer type");
+        p.type = plyTypeOf(entryType, entryType);
+        if (p.type == PlyType::None)
+            refuse("the entry type " + inQuotes(entryType) + " of list " + inQuotes(p.name) +
+                   " is not a PLY type (e.g. float, uchar, int)");
+        p.read = PlyRead::Other;
+        h.rewriteForOpenMesh = true;
     }
 
     void checkElements(const PlyHeader& h) {
@@ -261,11 +298,11 @@ size_t plyTypeBytes(PlyType t) {
 
 bool plyIsFloat(PlyType t) { return t == PlyType::Float32 || t == PlyType::Float64; }
 
-// Bytes of one item of an element without lists (the face's index list counted as its length).
+// Bytes of one item of an element without lists (a face's lists counted as their lengths).
 uint64_t plyMinItemBytes(const PlyElement& e) {
     uint64_t bytes = 0;
     for (const PlyProperty& p : e.properties)
-        bytes += plyTypeBytes(p.read == PlyRead::Indices ? p.countType : p.type);
+        bytes += plyTypeBytes(p.countType != PlyType::None ? p.countType : p.type);
     return bytes;
 }
 

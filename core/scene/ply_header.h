@@ -27,6 +27,7 @@ enum class PlyRead : uint8_t {
     Int,      // colours of any other type: `>> int` / readInteger
     Skip,     // everything else: `>> std::string` / skip the type's bytes
     Indices,  // the face's vertex_indices list
+    Other,    // another list of the face: checked here, never handed to OpenMesh
 };
 
 struct PlyProperty {
@@ -34,6 +35,9 @@ struct PlyProperty {
     PlyType type = PlyType::None;       // the value's type (a list's entry type)
     PlyType countType = PlyType::None;  // a list's length type; None when not a list
     PlyRead read = PlyRead::Skip;
+    // Its declaration's bytes in the header, from the blank before "property" to the end of
+    // its name: what a rewritten header leaves out.
+    uint64_t declarationStart = 0, declarationEnd = 0;
 };
 
 struct PlyElement {
@@ -48,6 +52,11 @@ struct PlyHeader {
     std::vector<PlyElement> elements;
     uint64_t dataStart = 0;  // byte offset of the body
     uint64_t headerLines = 0;
+    uint64_t bomBytes = 0;  // a UTF-8 byte-order mark before "ply": 3, else 0
+    // OpenMesh's reader would misread the file as it is (a byte-order mark, a face list other
+    // than vertex_indices, a face property before it): it reads a rewritten copy instead, whose
+    // faces hold only their vertex_indices (format_ply.cpp).
+    bool rewriteForOpenMesh = false;
 };
 
 // Bytes of one item of an element without lists (the face's index list counted as its length).

@@ -401,6 +401,67 @@ TEST_F(SceneFiles, ObjLineContinuation) {
     expectSameScene(s, plain);
 }
 
+TEST_F(SceneFiles, PlyFaceListsBesideTheIndicesAreIgnored) {
+    const std::string faceProps =
+        "property list uchar float texcoord\nproperty list uchar int vertex_indices\n"
+        "property int texnumber\nproperty list uchar float texcoord2\n";
+    auto header = [&](const std::string& format) {
+        return "ply\nformat " + format +
+               " 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+               "property float z\nelement face 2\n" +
+               faceProps + "end_header\n";
+    };
+    const std::string ascii = header("ascii") + "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n" +
+                              "6 0 0 1 0 1 1 4 0 1 2 3 0 0\n6 0 0 1 0 0 1 3 4 1 3 1 2 0.5 0.5\n";
+    Bytes binary;
+    binary.text(header("binary_little_endian"));
+    for (Vec3 v : {kA, kB, kD, kC, kE}) binary.vec(v);
+    const std::vector<std::vector<int32_t>> faces = {{0, 1, 2, 3}, {4, 1, 3}};
+    for (const auto& face : faces) {
+        binary.put<uint8_t>(2).put<float>(0.25f).put<float>(0.75f);
+        binary.put<uint8_t>(uint8_t(face.size()));
+        for (int32_t i : face) binary.put<int32_t>(i);
+        binary.put<int32_t>(9).put<uint8_t>(0);
+    }
+    Scene plain = plainOff();
+    for (const std::string& path :
+         {write("lists.ply", ascii), write("lists_bin.ply", binary.data)}) {
+        SCOPED_TRACE(path);
+        try {
+            Scene s = loadScene(path);
+            EXPECT_EQ(s.report.format, "ply");
+            ASSERT_EQ(s.primitiveCount(), 3u);
+            for (size_t i = 0; i < 3; ++i)
+                EXPECT_TRUE(triangleIs(s.triangles[i], plain.triangles[i].v0, plain.triangles[i].v1,
+                                       plain.triangles[i].v2));
+            EXPECT_EQ(s.sourceFace, plain.sourceFace);
+        } catch (const SceneError& e) {
+            ADD_FAILURE() << e.what();
+        }
+    }
+}
+
+TEST_F(SceneFiles, PlyFaceScalarBeforeTheIndices) {
+    // OpenMesh's reader drops the declarations before vertex_indices and then reads the scalar
+    // as the list length: "3 4 0 1 2 3" would become the triangle 4 0 1, in silence.
+    std::string path = write("before.ply",
+                             "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                             "property float y\nproperty float z\nelement face 2\n"
+                             "property uchar flags\nproperty list uchar int vertex_indices\n"
+                             "end_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
+                             "3 4 0 1 2 3\n3 3 4 1 3\n");
+    Scene plain = plainOff();
+    try {
+        Scene s = loadScene(path);
+        ASSERT_EQ(s.primitiveCount(), 3u);
+        for (size_t i = 0; i < 3; ++i)
+            EXPECT_TRUE(triangleIs(s.triangles[i], plain.triangles[i].v0, plain.triangles[i].v1,
+                                   plain.triangles[i].v2));
+    } catch (const SceneError& e) {
+        ADD_FAILURE() << e.what();
+    }
+}
+
 TEST_F(SceneFiles, ReaderMessagesDoNotLeakToStderr) {
     std::string path = write("noisy.ply", plyHeader("ascii") +
                                               "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"

@@ -218,6 +218,15 @@ add("ply_list_property_on_vertex.ply",
     "property float z\nproperty list uchar int extra\nend_header\n0 0 0 0\n1 0 0 0\n0 1 0 0\n",
     "error:list property")
 
+# Face lists beside vertex_indices are skipped, but must still be whole.
+add("ply_face_list_truncated.ply",
+    ply_header("ascii", 3, 1, "list uchar int vertex_indices\nproperty list uchar float texcoord")
+    + PLY_V + "3 0 1 2 6 0 0\n", "error:truncated")
+add("ply_binary_face_list_negative.ply",
+    ply_header("binary_little_endian", 3, 1,
+               "list uchar int vertex_indices\nproperty list int float texcoord").encode() +
+    PLY_VB + face_b(0, 1, 2) + struct.pack("<i", -1), "error:-1")
+
 # --- OFF ------------------------------------------------------------------------------------
 OFF_V = "0 0 0\n1 0 0\n0 1 0\n"
 add("off_empty.off", "", "error:first line")
