@@ -1,5 +1,6 @@
 // STL, ASCII and binary: a triangle soup that OpenMesh's STL reader welds into a mesh, surveyed
 // first to predict the facets it skips and to refuse what it would misread (loader_detail.h).
+#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -101,8 +102,21 @@ bool stlLooksAscii(const std::string& path) {
     char head[512];
     in.read(head, sizeof head);
     std::string text(head, size_t(in.gcount()));
+    stripUtf8Bom(text);
     size_t begin = text.find_first_not_of(" \t\r\n");
     return begin != std::string::npos && toLower(text.substr(begin, 5)) == "solid";
+}
+
+// True when the file holds a byte no text file holds (a control character other than blanks).
+bool hasBinaryBytes(const std::string& path) {
+    std::ifstream in = openOrThrow(path, std::ios::in | std::ios::binary);
+    char chunk[1 << 14];
+    while (in.read(chunk, sizeof chunk) || in.gcount() > 0)
+        for (std::streamsize i = 0; i < in.gcount(); ++i) {
+            const unsigned char c = static_cast<unsigned char>(chunk[i]);
+            if ((c < 0x20 && !std::isspace(c)) || c == 0x7f) return true;
+        }
+    return false;
 }
 
 Survey surveyStl(const std::string& path) {
@@ -123,7 +137,19 @@ Survey surveyStl(const std::string& path) {
                                            "STL's 84-byte header)") +
                          "; the file is truncated, padded or not an STL file");
     }
-    return surveyAsciiStl(path);
+    Survey s = surveyAsciiStl(path);
+    // Many programs start a binary STL's 80-byte header with "solid" too. With a facet count
+    // that does not match its size, such a file reads as an ASCII STL without a single facet.
+    const uint64_t size = fileSize(path);
+    if (s.facesInFile == 0 && size >= 84 && hasBinaryBytes(path))
+        throw SceneError("cannot load " + inQuotes(path) +
+                         ": it starts with 'solid' but is not text, so it is a binary STL, whose "
+                         "header declares " +
+                         std::to_string(facetCount) + " facets (" +
+                         std::to_string(84 + 50 * uint64_t(facetCount)) +
+                         " bytes) while the file has " + std::to_string(size) +
+                         " bytes; the facet count is wrong or the file is truncated or padded");
+    return s;
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
-// XYZ point clouds: one point per line, "x y z" and any further columns (ignored); blank lines
-// and lines starting with '#' are skipped. Each point becomes a sphere (sphereScene).
+// XYZ point clouds: one point per line, "x y z" and any further columns (ignored); blank lines,
+// lines starting with '#' and a UTF-8 byte-order mark are skipped. Each point becomes a sphere
+// (sphereScene).
 #include <cctype>
 #include <cerrno>
 #include <cstdlib>
@@ -48,8 +49,10 @@ Scene loadXyz(const std::string& path, const LoadOptions& opts) {
     std::string line;
     uint64_t lineNo = 0;
     Vec3 p;
-    while (std::getline(in, line))
+    while (std::getline(in, line)) {
+        if (lineNo == 0) stripUtf8Bom(line);
         if (parseXyzLine(line, ++lineNo, path, p)) points.push_back(p);
+    }
     if (in.bad()) throw SceneError("cannot read " + inQuotes(path) + ": " + std::strerror(errno));
     report.verticesRead = points.size();
     std::vector<Vec3> kept = finitePoints(points, report);

@@ -389,6 +389,30 @@ TEST_F(SceneFiles, OffFaceColoursWithoutTheCPrefix) {
     expectError(write("word.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 red\n"), "red");
 }
 
+TEST_F(SceneFiles, ByteOrderMarkIsIgnoredInEveryTextFormat) {
+    const std::string bom = "\xEF\xBB\xBF";
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3 4\nf 5 2 4\n"},
+        {"off", std::string("OFF\n5 2 0\n") + kOffQuadAndTriangle},
+        {"ply",
+         "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 2\nproperty list uchar int vertex_indices\n"
+         "end_header\n" +
+             std::string(kOffQuadAndTriangle)},
+        {"stl", "solid t\n" + asciiFacet(kA, kB, kD) + asciiFacet(kE, kB, kC) + "endsolid t\n"},
+        {"xyz", "0 0 0\n1 0 0\n1 1 0\n"}};
+    for (const auto& [ext, text] : files) {
+        SCOPED_TRACE(ext);
+        Scene plain = loadScene(write("plain." + ext, text));
+        std::string path = write("bom." + ext, bom + text);
+        try {
+            expectSameScene(loadScene(path), plain);
+        } catch (const SceneError& e) {
+            ADD_FAILURE() << e.what();
+        }
+    }
+}
+
 TEST_F(SceneFiles, ObjLineContinuation) {
     // Wavefront OBJ: a line ending in a backslash continues on the next one. A comment is
     // never continued, so a path in it cannot swallow the next statement.
@@ -460,6 +484,20 @@ TEST_F(SceneFiles, PlyFaceScalarBeforeTheIndices) {
     } catch (const SceneError& e) {
         ADD_FAILURE() << e.what();
     }
+}
+
+TEST_F(SceneFiles, BinaryStlStartingWithSolidNamesItsCountAndSize) {
+    // Many CAD programs start a binary STL's 80-byte header with "solid". With a wrong facet
+    // count the size rule reads it as ASCII, which finds no facet: say what is wrong instead.
+    Bytes b;
+    b.text("solid part" + std::string(70, ' ')).put<uint32_t>(5);
+    for (int f = 0; f < 2; ++f) b.vec({0, 0, 1}).vec(kA).vec(kB).vec(kC).put<uint16_t>(0);
+    const std::string path = write("solid_binary.stl", b.data);
+    expectError(path, "declares 5 facets");
+    expectError(path, std::to_string(b.data.size()));
+    // An ASCII STL without facets is still "no faces".
+    expectError(write("empty.stl", "solid empty\n" + std::string(100, ' ') + "\nendsolid empty\n"),
+                "no faces");
 }
 
 TEST_F(SceneFiles, ReaderMessagesDoNotLeakToStderr) {

@@ -308,6 +308,10 @@ add("stl_ascii_nan.stl", stl_a([T1, ((0, 0, 0), ("nan", 0, 0), (0, 1, 0))]), "er
 add("stl_ascii_garbage_coordinate.stl", stl_a([T1, ((0, 0, 0), ("x1", 0, 0), (0, 1, 0))]),
     "error:line")
 add("stl_ascii_no_facets.stl", "solid empty\nendsolid empty\n", "error:no faces")
+# A binary STL whose header starts with "solid" (as many CAD programs write it) and whose facet
+# count is wrong: the size rule reads it as ASCII, which finds no facet.
+add("stl_binary_solid_header_wrong_count.stl",
+    b"solid part".ljust(80, b" ") + stl_b([T1, T2], count=5)[80:], "error:declares 5 facets")
 
 # --- XYZ ------------------------------------------------------------------------------------
 add("xyz_empty.xyz", "", "error:no usable points")
