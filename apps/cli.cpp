@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -38,7 +39,20 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("--radius", o.radius,
                    "Sphere radius for point clouds (default: half the median nearest-neighbour "
                    "distance)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                // A float > 0 (as o.radius holds it: 1e-50 would become 0, the default rule,
+                // and 1e39 infinity); the message is short, unlike CLI::PositiveNumber's.
+                char* end = nullptr;
+                const double value = std::strtod(text.c_str(), &end);
+                if (!text.empty() && *end == '\0' && std::isfinite(float(value)) &&
+                    float(value) > 0.0f)
+                    return "";
+                return text +
+                       " is not a positive finite radius; give one, or leave --radius out "
+                       "for the default rule";
+            },
+            "POSITIVE"));
     addLayoutLimitOptions(cmd, o.limits, "refused");
 }
 

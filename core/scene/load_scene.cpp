@@ -102,10 +102,15 @@ bool parseGridSpec(const std::string& spec, uint32_t& n, uint64_t& seed) {
     return true;
 }
 
+// LoadOptions::radius 0 means "none given" (the default rule); a negative or non-finite one is
+// refused. The message shows it in its shortest form (std::to_string wrote 1e38 with 39 digits)
+// and does not suggest 0, which the command line's --radius refuses.
 void checkRadiusOption(const std::string& path, const LoadOptions& opts) {
     if (std::isfinite(opts.radius) && opts.radius >= 0.0f) return;
-    throw SceneError("invalid sphere radius " + std::to_string(opts.radius) + " for " +
-                     inQuotes(path) + "; give a radius > 0, or 0 for the default rule");
+    std::ostringstream value;
+    value << opts.radius;
+    throw SceneError("invalid sphere radius " + value.str() + " for " + inQuotes(path) +
+                     "; give a positive finite radius, or none for the default rule");
 }
 
 }  // namespace

@@ -500,6 +500,26 @@ TEST_F(SceneFiles, BinaryStlStartingWithSolidNamesItsCountAndSize) {
                 "no faces");
 }
 
+TEST_F(SceneFiles, RadiusMessagesAreShortAndHonest) {
+    const std::string path = write("r.xyz", "0 0 0\n1 0 0\n");
+    for (float radius : {std::nanf(""), -1.0f, -3e38f, -INFINITY, INFINITY}) {
+        LoadOptions opts;
+        opts.radius = radius;
+        try {
+            loadScene(path, opts);
+            ADD_FAILURE() << "radius " << radius << " accepted";
+        } catch (const SceneError& e) {
+            const std::string msg = e.what();
+            EXPECT_LT(msg.size(), 160u + path.size()) << msg;
+            EXPECT_NE(msg.find("radius"), std::string::npos) << msg;
+            // 0 selects the default rule in LoadOptions, but the command line refuses it:
+            // the message must not advise it.
+            EXPECT_EQ(msg.find(" 0 "), std::string::npos) << msg;
+            EXPECT_EQ(msg.find("999999"), std::string::npos) << msg;
+        }
+    }
+}
+
 TEST_F(SceneFiles, ReaderMessagesDoNotLeakToStderr) {
     std::string path = write("noisy.ply", plyHeader("ascii") +
                                               "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n"
