@@ -1,15 +1,18 @@
 // Internal to the scene loader: what its files (load_scene.cpp, the format_*.cpp loaders and
 // their helpers) share. Not octrace's interface; that is load_scene.h and scene_formats.h.
 //
-// How a mesh is loaded: OpenMesh's reader hands everything over to RawMeshImporter
-// (openmesh_reader.cpp), which records it without building a halfedge mesh (an OpenMesh mesh
-// would reject non-manifold faces). Because OpenMesh's readers silently skip or misread some
-// input before any importer sees it, each format is first surveyed by its loader: the survey
-// counts the file's faces, predicts which of them the reader will hand over (so sourceFace
-// stays a file face index and the skipped ones are counted), and refuses, with a SceneError,
-// input that a reader would silently misread, hang on, crash or abort on, or size from an
-// impossible header count (body_readers.h). docs/ROBUSTNESS.md lists the cases;
-// tests/data/bad/ holds one file for each, and fuzz/ fuzzes this whole path.
+// How an OBJ, PLY or STL mesh is loaded (OFF and XYZ are read by their loaders themselves):
+// OpenMesh's reader hands everything over to RawMeshImporter (openmesh_reader.cpp), which
+// records it without building a halfedge mesh (an OpenMesh mesh would reject non-manifold
+// faces). Because OpenMesh's readers silently skip or misread some input before any importer
+// sees it, each format is first surveyed by its loader: the survey counts the file's faces,
+// predicts which of them the reader will hand over (so sourceFace stays a file face index and
+// the skipped ones are counted), and refuses, with a SceneError, input that a reader would
+// silently misread, hang on, crash or abort on, or size from an impossible header count
+// (body_readers.h). Valid input the reader would misread as it is (a byte-order mark, OBJ line
+// continuations, some PLY face properties) is handed to it as a rewritten copy instead.
+// docs/ROBUSTNESS.md lists the cases; tests/data/bad/ holds one malformed file for each,
+// tests/data/odd/ the odd but valid ones, and fuzz/ fuzzes this whole path.
 #pragma once
 
 #include <cstdint>
