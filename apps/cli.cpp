@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
 #include "core/io/output_file.h"
 #include "core/render/frame.h"
+#include "core/scene/scene_formats.h"
 #include "cpu_ref/render_cpu.h"
 
 namespace oct {
@@ -28,10 +30,7 @@ LayoutOptions SceneOptions::layoutOptions() const {
 }
 
 void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
-    cmd.add_option("scene", o.path,
-                   "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or a generated grid "
-                   "cloud grid:N[:SEED]")
-        ->required();
+    cmd.add_option("scene", o.path, sceneFormatsHelp())->required();
     cmd.add_option("--max-depth", o.maxDepth, "Deepest octree level (root = 0), 0..21")
         ->capture_default_str()
         ->check(CLI::Range(0, kMaxOctreeDepth));
@@ -41,7 +40,20 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("--radius", o.radius,
                    "Sphere radius for point clouds (default: half the median nearest-neighbour "
                    "distance)")
-        ->check(CLI::PositiveNumber);
+        ->check(CLI::Validator(
+            [](std::string& text) -> std::string {
+                // A float > 0 (as o.radius holds it: 1e-50 would become 0, the default rule,
+                // and 1e39 infinity); the message is short, unlike CLI::PositiveNumber's.
+                char* end = nullptr;
+                const double value = std::strtod(text.c_str(), &end);
+                if (!text.empty() && *end == '\0' && std::isfinite(float(value)) &&
+                    float(value) > 0.0f)
+                    return "";
+                return text +
+                       " is not a positive finite radius; give one, or leave --radius out "
+                       "for the default rule";
+            },
+            "POSITIVE"));
     addLayoutLimitOptions(cmd, o.limits, "refused");
 }
 

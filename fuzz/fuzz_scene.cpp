@@ -1,10 +1,10 @@
 // libFuzzer target over scene loading and octree building (docs/ROBUSTNESS.md).
 //
-// Input: one selector byte, then a file's bytes. The selector picks the extension (.obj .ply
-// .off .stl .xyz, byte % 5); the bytes are written to a file of that name in a private
-// temporary folder and loaded with loadScene, exactly as `octrace` loads a user's file. When
-// loading succeeds, the canonical octree is built with small parameters and converted to the
-// hash and linear layouts (the linear one under a small memory budget).
+// Input: one selector byte, then a file's bytes. The selector picks the extension from the scene
+// format table (core/scene/scene_formats.h: byte % the number of formats); the bytes are written to
+// a file of that name in a private temporary folder and loaded with loadScene, exactly as `octrace`
+// loads a user's file. When loading succeeds, the canonical octree is built with small parameters
+// and converted to the hash and linear layouts (the linear one under a small memory budget).
 //
 // SceneError and OctreeError are the expected ways to refuse an input. Anything else is a
 // finding: a crash, a sanitizer report, another exception (std::terminate), a hang (-timeout)
@@ -15,10 +15,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
 #include "core/scene/load_scene.h"
+#include "core/scene/scene_formats.h"
 
 namespace {
 
@@ -43,8 +45,8 @@ bool writeFile(const std::string& path, const uint8_t* data, size_t size) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;
-    static const char* const kExtensions[] = {"obj", "ply", "off", "stl", "xyz"};
-    const std::string path = scratchDir() + "/input." + kExtensions[data[0] % 5];
+    const std::vector<oct::SceneFormat>& formats = oct::sceneFormats();
+    const std::string path = scratchDir() + "/input." + formats[data[0] % formats.size()].extension;
     if (!writeFile(path, data + 1, size - 1)) std::abort();
     try {
         oct::Scene scene = oct::loadScene(path);

@@ -1,19 +1,19 @@
 #include "validation/table1.h"
 
 #include <algorithm>
-#include <cctype>
 #include <filesystem>
 #include <stdexcept>
 
 #include "core/scene/load_scene.h"
+#include "core/scene/scene_formats.h"
 
 namespace oct {
 namespace {
 
+// Files of a mesh format of the scene format table (a .ply may also be a point cloud).
 bool isMesh(const std::filesystem::path& p) {
-    std::string e = p.extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return std::tolower(c); });
-    return e == ".obj" || e == ".ply" || e == ".off" || e == ".stl";
+    const SceneFormat* format = findSceneFormat(p.string());
+    return format && format->mesh;
 }
 
 std::vector<std::string> meshesIn(const std::filesystem::path& dir) {

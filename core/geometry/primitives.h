@@ -2,9 +2,14 @@
 // a sphere of radius R), and the per-ray intersection routines used by every layout.
 #pragma once
 
+#include <cstdint>
+
 #include "core/geometry/vec3.h"
 
 namespace oct {
+
+// Which of the two a scene (and every view of its primitives a kernel receives) holds.
+enum class PrimKind : uint8_t { Triangles = 0, Spheres = 1 };
 
 struct Triangle {
     Vec3 v0, v1, v2;  // 36 bytes

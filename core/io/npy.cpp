@@ -41,17 +41,23 @@ std::string headerFor(const std::string& descr, const std::vector<uint64_t>& sha
 }
 
 // Value of key in the header dict, e.g. 'descr': '<f4' -> <f4, 'shape': (3, 8) -> 3, 8.
+// numpy reads the dict as a Python literal (numpy.lib.format.read_array_header_1_0 uses
+// ast.literal_eval), so keys and strings may be in single or double quotes, as other writers
+// (and numpy's own older versions) put them, and the last value may end at the '}'.
 std::string field(const std::string& header, const std::string& key, const std::string& path) {
     size_t k = header.find("'" + key + "'");
+    if (k == std::string::npos) k = header.find("\"" + key + "\"");
     if (k == std::string::npos) bad(path, "header has no '" + key + "'");
-    size_t colon = header.find(':', k);
+    size_t colon = header.find(':', k + key.size() + 2);
     if (colon == std::string::npos) bad(path, "malformed header");
     size_t start = header.find_first_not_of(' ', colon + 1);
     if (start == std::string::npos) bad(path, "malformed header");
-    char open = header[start];
-    char close = open == '\'' ? '\'' : (open == '(' ? ')' : ',');
-    size_t from = (open == '\'' || open == '(') ? start + 1 : start;
-    size_t end = header.find(close, from);
+    const char open = header[start];
+    const bool quoted = open == '\'' || open == '"';
+    size_t from = quoted || open == '(' ? start + 1 : start;
+    size_t end = quoted        ? header.find(open, from)
+                 : open == '(' ? header.find(')', from)
+                               : header.find_first_of(",}", from);
     if (end == std::string::npos) bad(path, "malformed header");
     return header.substr(from, end - from);
 }

@@ -1,20 +1,27 @@
 // Scene loading: a file (or a generator spec) in, a Scene of flat primitive arrays out, with an
 // account in scene.report of everything that was dropped on the way.
 //
-// Formats, chosen by the extension (case-insensitive):
-//  - .obj .ply .off .stl: triangle meshes read through OpenMesh's readers into our own importer,
-//    which keeps every face in file order, including the non-manifold and duplicated faces an
-//    OpenMesh mesh would reject. Polygons are fan-triangulated (v0, vi, vi+1) in face order;
-//    triangle i came from file face sourceFace[i]. Dropped and counted: faces with fewer than
-//    3 vertices, faces with an index that names no vertex, faces with a non-finite (or, in OBJ,
-//    unparsable) vertex coordinate, and fan triangles of zero area (the cross product of two
-//    edges, computed in double from the float vertices, is exactly the zero vector).
+// Formats, chosen by the extension (case-insensitive) from the table of scene_formats.h:
+//  - .obj .ply .off .stl: triangle meshes (OBJ, PLY and STL read through OpenMesh's readers into
+//    our own importer, OFF by octrace itself), keeping every face in file order, including the
+//    non-manifold and duplicated faces an OpenMesh mesh would reject. Polygons are
+//    fan-triangulated (v0, vi, vi+1) in face order; triangle i came from file face
+//    sourceFace[i]. Dropped and counted: faces with fewer than 3 vertices, faces with an index
+//    that names no vertex, faces with a non-finite (or, in OBJ, unparsable) vertex coordinate,
+//    and fan triangles of zero area (the cross product of two edges, computed in double from
+//    the float vertices, is exactly the zero vector).
 //  - .ply with vertices but no faces, and .xyz (whitespace-separated "x y z" per line, further
 //    columns ignored, blank lines and lines starting with '#' skipped): point clouds, each
 //    point a Sphere. Points with a non-finite coordinate are dropped and counted.
 //  - "grid:N" or "grid:N:SEED": the generated grid cloud of grid_cloud.h (seed 1 by default).
 //
+// A text file (any but a binary PLY, OFF or STL) may begin with a UTF-8 byte-order mark; it
+// loads exactly as without it. docs/ROBUSTNESS.md lists, per format, what loads, what is
+// dropped and counted, and what is refused.
+//
 // Sphere radius of point clouds: LoadOptions::radius when > 0, else defaultPointRadius().
+//
+// How the loaders read and check each format: loader_detail.h and the format_*.cpp files.
 //
 // Every failure is a SceneError with a one-line message naming the path, the reason and what to
 // do: missing or unreadable file, a directory or other non-regular file, an unknown extension, a

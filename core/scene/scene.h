@@ -9,11 +9,9 @@
 #include <vector>
 
 #include "core/geometry/aabb.h"
-#include "core/geometry/primitives.h"
+#include "core/geometry/primitives.h"  // Triangle, Sphere, PrimKind
 
 namespace oct {
-
-enum class PrimKind : uint8_t { Triangles = 0, Spheres = 1 };
 
 // Thrown for any problem with a scene file or generator spec. The message names the file,
 // the offending value and what the user can do about it (one line, no trailing newline).

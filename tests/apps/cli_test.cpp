@@ -434,6 +434,22 @@ TEST_F(Cli, InfoErrorsAreOneLine) {
     EXPECT_NE(run(tight).err.find("--hash-budget"), std::string::npos);
 }
 
+// --radius: a short, honest line for every value it refuses (not the range of a double, and
+// no advice to give a value it then refuses).
+TEST_F(Cli, RadiusErrorsAreShortAndHonest) {
+    writeFile(path("p.xyz"), "0 0 0\n1 0 0\n");
+    for (const char* radius : {"0", "-1", "nan", "inf", "-inf", "1e999", "abc", "1e-50", "1e39"}) {
+        SCOPED_TRACE(radius);
+        const RunResult r = run("info " + q("p.xyz") + " --radius " + radius);
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_LT(r.err.size(), 200u) << r.err;
+        EXPECT_NE(r.err.find("--radius"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find("999999"), std::string::npos) << r.err;
+        EXPECT_EQ(r.err.find(" 0 for"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(run("info " + q("p.xyz") + " --radius 0.25").status, 0);
+}
+
 TEST_F(Cli, TraceErrorsAreOneLineAndWriteNothing) {
     const uint64_t n = 16;
     std::vector<float> good(n * 8);

@@ -218,6 +218,15 @@ add("ply_list_property_on_vertex.ply",
     "property float z\nproperty list uchar int extra\nend_header\n0 0 0 0\n1 0 0 0\n0 1 0 0\n",
     "error:list property")
 
+# Face lists beside vertex_indices are skipped, but must still be whole.
+add("ply_face_list_truncated.ply",
+    ply_header("ascii", 3, 1, "list uchar int vertex_indices\nproperty list uchar float texcoord")
+    + PLY_V + "3 0 1 2 6 0 0\n", "error:truncated")
+add("ply_binary_face_list_negative.ply",
+    ply_header("binary_little_endian", 3, 1,
+               "list uchar int vertex_indices\nproperty list int float texcoord").encode() +
+    PLY_VB + face_b(0, 1, 2) + struct.pack("<i", -1), "error:-1")
+
 # --- OFF ------------------------------------------------------------------------------------
 OFF_V = "0 0 0\n1 0 0\n0 1 0\n"
 add("off_empty.off", "", "error:first line")
@@ -251,6 +260,10 @@ add("off_binary_face_list_huge.off",
 add("off_4d.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 1\n3 0 1 2\n", "error:4OFF")
 add("off_index_overflow.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 99999999999\n",
     "error:99999999999")
+# A face line ends in an optional colour (a colour-map index, RGB or RGBA); anything else after
+# the indices means the vertex count is wrong.
+add("off_face_colour_two_values.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 2 5 6\n", "error:line 6")
+add("off_face_colour_word.off", "OFF\n3 1 0\n" + OFF_V + "3 0 1 2 red\n", "error:red")
 
 # --- STL ------------------------------------------------------------------------------------
 
@@ -295,6 +308,10 @@ add("stl_ascii_nan.stl", stl_a([T1, ((0, 0, 0), ("nan", 0, 0), (0, 1, 0))]), "er
 add("stl_ascii_garbage_coordinate.stl", stl_a([T1, ((0, 0, 0), ("x1", 0, 0), (0, 1, 0))]),
     "error:line")
 add("stl_ascii_no_facets.stl", "solid empty\nendsolid empty\n", "error:no faces")
+# A binary STL whose header starts with "solid" (as many CAD programs write it) and whose facet
+# count is wrong: the size rule reads it as ASCII, which finds no facet.
+add("stl_binary_solid_header_wrong_count.stl",
+    b"solid part".ljust(80, b" ") + stl_b([T1, T2], count=5)[80:], "error:declares 5 facets")
 
 # --- XYZ ------------------------------------------------------------------------------------
 add("xyz_empty.xyz", "", "error:no usable points")

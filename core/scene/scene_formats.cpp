@@ -1,0 +1,44 @@
+// The table of scene formats (scene_formats.h).
+#include "core/scene/scene_formats.h"
+
+#include "core/scene/loader_detail.h"
+
+namespace oct {
+
+const std::vector<SceneFormat>& sceneFormats() {
+    using namespace scene_detail;
+    static const std::vector<SceneFormat> kFormats = {
+        {"obj", "Wavefront OBJ mesh", true, false, loadObj},
+        {"ply", "PLY mesh, or point cloud without faces", true, true, loadPly},
+        {"off", "OFF mesh", true, false, loadOff},
+        {"stl", "STL mesh", true, false, loadStl},
+        {"xyz", "point cloud, x y z per line", false, true, loadXyz},
+    };
+    return kFormats;
+}
+
+const SceneFormat* findSceneFormat(const std::string& path) {
+    const std::string ext = scene_detail::lowerExtension(path);
+    for (const SceneFormat& f : sceneFormats())
+        if (ext == f.extension) return &f;
+    return nullptr;
+}
+
+std::string sceneExtensionList(const std::string& lastJoin) {
+    const std::vector<SceneFormat>& formats = sceneFormats();
+    std::string out;
+    for (size_t i = 0; i < formats.size(); ++i) {
+        if (i > 0) out += i + 1 == formats.size() ? lastJoin : ", ";
+        out += std::string(".") + formats[i].extension;
+    }
+    return out;
+}
+
+std::string sceneFormatsHelp() {
+    std::string out = "Scene file:";
+    for (const SceneFormat& f : sceneFormats())
+        out += std::string(" .") + f.extension + " (" + f.description + "),";
+    return out + " or a generated grid cloud grid:N[:SEED]";
+}
+
+}  // namespace oct
