@@ -33,11 +33,12 @@ std::string failure(const CertifyReport& r) {
     std::string sets;
     for (const SetCertification& s : r.result.sets)
         if (!s.clean()) sets += (sets.empty() ? "" : ", ") + s.range.name;
-    const ClassCounts& strict = r.result.strict;
+    char rate[64];
+    std::snprintf(rate, sizeof rate, "%.3g (limit %.3g)", r.result.strict.ambiguousRate(),
+                  r.policy.maxAmbiguousRate);
     return "certification FAILED: " + std::to_string(r.result.all.wrong) + " wrong, " +
            std::to_string(r.result.leaks) + " leaks" + (sets.empty() ? "" : " (in " + sets + ")") +
-           ", ambiguous rate " + std::to_string(strict.ambiguousRate()) + " (limit " +
-           std::to_string(r.policy.maxAmbiguousRate) + ") (see the report above)";
+           ", ambiguous rate " + rate + " (see the report above)";
 }
 
 void runCertify(const CertifyCliOptions& o) {
