@@ -7,8 +7,9 @@ triangles near the ray (generously); the decision is exact.
 
 usage: python3 exact_hit.py T.npy R.npy ROW [ROW ...]
   T.npy  float32 (M, 9) triangles (octrace rays --triangles); R.npy float32 (N, 8) rays
-prints per row: the exact closest hit (t to 9 digits, primitive) and every hit within 1e-4 of
-the ray's length scale, or "miss".
+prints per row: the exact closest hit (t to 9 digits, primitive) and every hit within 1e-4 in t
+after it, each saying whether the ray meets the triangle inside or exactly on an edge or a
+vertex (an exactly zero barycentric), or "miss".
 """
 import sys
 from fractions import Fraction as F
@@ -35,8 +36,9 @@ def exact_hits(tri, ray, candidates):
         u = sum(tv[k] * p[k] for k in range(3)) / det
         v = sum(d[k] * q[k] for k in range(3)) / det
         t = sum(e2[k] * q[k] for k in range(3)) / det
-        if u >= 0 and v >= 0 and u + v <= 1 and t >= tmin and (np.isinf(tmax) or t <= F(float(tmax))):
-            hits.append((t, int(i)))
+        inside = u >= 0 and v >= 0 and u + v <= 1
+        if inside and t >= tmin and (np.isinf(tmax) or t <= F(float(tmax))):
+            hits.append((t, int(i), (1 - u - v, u, v)))
     return sorted(hits)
 
 
@@ -64,9 +66,15 @@ def main():
             print(f"row {row}: miss")
             continue
         t0 = hits[0][0]
-        close = [f"#{i} t={float(t):.9g}" for t, i in hits if t - t0 <= F(1, 10000)]
+        close = [f"#{i} t={float(t):.9g} {where(b)}" for t, i, b in hits if t - t0 <= F(1, 10000)]
         print(f"row {row}: closest t={float(t0):.9g} #{hits[0][1]} (exact); within 1e-4: "
               + ", ".join(close))
+
+
+def where(bary):
+    """Where the ray meets the closed triangle: inside, or exactly on an edge or a vertex."""
+    zeros = sum(1 for b in bary if b == 0)
+    return ["inside", "exactly on an edge", "exactly at a vertex"][min(zeros, 2)]
 
 
 if __name__ == "__main__":
