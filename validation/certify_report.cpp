@@ -176,11 +176,12 @@ std::string humanSummary(const CertifyReport& r) {
              (unsigned long long)rows, r.result.sets.size(),
              r.manifest ? " (manifest checked)" : " (no manifest: one set)", r.hits.c_str(),
              r.primIds ? "" : " (distances only: a hit's primitive is inferred)");
-    s +=
-        fmt("policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: |cos| "
-            "<= %.3g; pass per set: no wrong, no leak, ambiguous rate <= %.3g\n",
-            r.policy.tTolerance, r.policy.edgeTolerance, r.policy.grazingCos,
-            r.policy.maxAmbiguousRate);
+    s += fmt(
+        "policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: |cos| "
+        "<= %.3g; pass: no wrong ray and no leak in any set, ambiguous rate of the non-adversarial "
+        "sets <= %.3g\n",
+        r.policy.tTolerance, r.policy.edgeTolerance, r.policy.grazingCos,
+        r.policy.maxAmbiguousRate);
     s +=
         fmt("reference embree (robust) %.2f s; check %.2f s\n", r.referenceSeconds, r.checkSeconds);
     if (r.topology && !r.topology->closed && r.result.leakChecked)

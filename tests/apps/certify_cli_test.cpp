@@ -213,6 +213,12 @@ TEST_F(CertifyCli, OutputsNeverReplaceInputs) {
     EXPECT_FALSE(fs::exists(work_ / "X.npy"));
     r = run("rays " + quote(kCube) + " --set camera,nope --out " + q("Y.npy"));
     EXPECT_TRUE(isOneLineError(r));
+    // Zero rays certify nothing: refused rather than a PASS.
+    r = run("rays " + quote(kCube) + " --set around --count 0 --out " + q("Z.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    r = run("certify " + quote(kCube) + " --rays " + q("Z.npy") + " --hits " + q("Z"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("no rays"), std::string::npos) << r.err;
 }
 
 TEST_F(CertifyCli, DiffImageOfTheCameraSet) {
