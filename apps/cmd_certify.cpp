@@ -54,7 +54,8 @@ void runCertify(const CertifyCliOptions& o) {
     std::vector<float> rows = cli_stopgap::readRayRows(o.rays);
     const uint64_t n = rows.size() / 8;
     if (n == 0)
-        throw std::runtime_error("'" + o.rays + "' holds no rays: nothing to certify (make some "
+        throw std::runtime_error("'" + o.rays +
+                                 "' holds no rays: nothing to certify (make some "
                                  "with octrace rays)");
     HitArrays hits = readHitFiles(o.hits, n, o.rays, !o.noPrim);
     std::optional<RayManifest> manifest;
