@@ -197,6 +197,8 @@ int runCli(int argc, char** argv) {
     registerValidate(app);
     registerBench(app);
     registerList(app);
+    registerRays(app);
+    registerCertify(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

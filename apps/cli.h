@@ -89,5 +89,7 @@ void registerTrace(CLI::App& app);
 void registerValidate(CLI::App& app);
 void registerBench(CLI::App& app);
 void registerList(CLI::App& app);
+void registerRays(CLI::App& app);
+void registerCertify(CLI::App& app);
 
 }  // namespace oct

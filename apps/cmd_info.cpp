@@ -6,6 +6,7 @@
 
 #include "apps/cli.h"
 #include "core/scene/load_scene.h"
+#include "validation/mesh_topology.h"
 
 namespace oct {
 namespace {
@@ -92,6 +93,14 @@ void printHuman(const nlohmann::json& j,
         (unsigned long long)d["total"], (unsigned long long)d["invalid_index"],
         (unsigned long long)d["non_finite"], (unsigned long long)d["degenerate"],
         (unsigned long long)d["too_few_vertices"], (unsigned long long)l["polygons_triangulated"]);
+    if (j.contains("topology") && !j["topology"].is_null()) {
+        const auto& tp = j["topology"];
+        std::printf(
+            "closed       %s (%llu boundary edges, %llu non-manifold edges; vertices "
+            "welded by position)\n",
+            tp["closed"].get<bool>() ? "yes" : "no", (unsigned long long)tp["boundary_edges"],
+            (unsigned long long)tp["non_manifold_edges"]);
+    }
     std::printf("octree       depth %d (max %d, max-prims %u), %llu nodes, built in %.3f s\n",
                 t["depth"].get<int>(), t["effective_max_depth"].get<int>(),
                 t["max_prims"].get<unsigned>(), (unsigned long long)t["nodes"],
@@ -128,6 +137,15 @@ void runInfo(const InfoOptions& o) {
                    uint64_t(scene.primitiveCount()) * (tris ? sizeof(Triangle) : sizeof(Sphere))}};
     if (!tris && !scene.spheres.empty()) j["scene"]["radius"] = scene.spheres[0].radius;
     j["load"] = loadJson(scene);
+    j["topology"] = nullptr;  // closed: every edge in exactly two triangles (mesh_topology.h)
+    if (tris) {
+        MeshTopology t = meshTopology(scene);
+        j["topology"] = {{"closed", t.closed()},
+                         {"vertices", t.vertices.size()},
+                         {"edges", t.edges.size()},
+                         {"boundary_edges", t.boundaryEdges},
+                         {"non_manifold_edges", t.nonManifoldEdges}};
+    }
     j["octree"] = treeJson(tree);
     std::vector<std::pair<std::string, std::string>> layoutLines;
     j["layouts"] = layoutsJson(scene, tree, lo, layoutLines);

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "apps/cli.h"
+#include "apps/policy_options.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
 #include "validation/diff_image.h"
@@ -44,8 +45,9 @@ std::vector<const BackendDesc*> backendsUnderTest(const std::string& text) {
     for (const BackendDesc* b : out)
         if (!b->usesLayouts)
             throw std::runtime_error(std::string("--backend ") + b->name + ": " + b->name +
-                                     " is the reference validate compares against; use a "
-                                     "backend that traces our layouts");
+                                     " traces its own structure, not our layouts (embree is "
+                                     "the reference; certify other tracers with octrace "
+                                     "certify); use a backend that traces our layouts");
     return out;
 }
 
@@ -169,22 +171,7 @@ void registerValidate(CLI::App& app) {
     cmd->add_option("--diff-image", o->diffImage,
                     "Write a PNG heat map of |dt| with wrong pixels marked (one per run: "
                     "NAME-LAYOUT-BACKEND.png when there are several)");
-    cmd->add_option("--max-ambiguous-rate", o->policy.maxAmbiguousRate,
-                    "Fail when ambiguous / compared exceeds this (primary, shadow, rays)")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--t-tolerance", o->policy.tTolerance,
-                    "Same hit when |dt| <= this x scene extent (bounding-box diagonal)")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--edge-tolerance", o->policy.edgeTolerance,
-                    "Edge, vertex, tangent or range-end configuration within this x extent")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
-    cmd->add_option("--grazing-cos", o->policy.grazingCos,
-                    "Grazing ray when |cos(ray, normal)| <= this")
-        ->capture_default_str()
-        ->check(CLI::Range(0.0, 1.0));
+    addPolicyOptions(*cmd, o->policy, "primary, shadow, rays");
     cmd->add_flag("--no-replication", o->noReplication, "Skip the replication check");
     cmd->add_flag("--table1", o->table1,
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "

@@ -5,6 +5,7 @@
 #include "backends/backend.h"
 #include "cpu_ref/cpu_backend.h"
 #include "cpu_ref/embree_backend.h"
+#include "cpu_ref/embree_fast_backend.h"
 #ifdef OCT_HAVE_CUDA
 #include "gpu/cuda_backend.h"
 #endif
@@ -15,6 +16,7 @@ const std::vector<BackendDesc>& backends() {
     static const std::vector<BackendDesc> all = {
         cpuBackend(),
         embreeBackend(),
+        embreeFastBackend(),
 #ifdef OCT_HAVE_CUDA
         cudaBackend(),
 #endif

@@ -4,8 +4,8 @@
 
 namespace oct {
 
-EmbreeSceneTracer::EmbreeSceneTracer(const BuiltScene& scene)
-    : prims_(scene.prims()), embree_(*scene.scene) {}
+EmbreeSceneTracer::EmbreeSceneTracer(const BuiltScene& scene, bool robust)
+    : prims_(scene.prims()), embree_(*scene.scene, robust) {}
 
 std::vector<double> EmbreeSceneTracer::render(const FrameParams& frame, Film& film, int warmup,
                                               int repeats) {

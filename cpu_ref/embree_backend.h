@@ -13,7 +13,8 @@ BackendDesc embreeBackend();
 // (embree().accel() with anyHit) on the BVH it rendered the reference with.
 class EmbreeSceneTracer : public SceneTracer {
 public:
-    explicit EmbreeSceneTracer(const BuiltScene& scene);
+    // robust = false: Embree's default mode (the embree-fast backend).
+    explicit EmbreeSceneTracer(const BuiltScene& scene, bool robust = true);
     double prepareSeconds() const override { return embree_.buildSeconds(); }
     std::vector<double> render(const FrameParams& frame, Film& film, int warmup = 0,
                                int repeats = 1) override;

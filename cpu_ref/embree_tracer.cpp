@@ -70,14 +70,14 @@ void fillRay(RTCRay& r, const Ray& ray) {
 
 }  // namespace
 
-EmbreeTracer::EmbreeTracer(const Scene& scene) {
+EmbreeTracer::EmbreeTracer(const Scene& scene, bool robust) {
     device_ = rtcNewDevice(nullptr);
     if (!device_) throw EmbreeError("cannot create an Embree device");
     // The clock starts after the device: creating it (thread pool, ISA probe) is a one-off cost
     // of the process, not of building this scene's BVH, which is what octree builds compare to.
     auto start = std::chrono::steady_clock::now();
     scene_ = rtcNewScene(device_);
-    rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+    if (robust) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry g = scene.kind == PrimKind::Triangles ? triangleGeometry(device_, scene)
                                                       : sphereGeometry(device_, scene);

@@ -1,7 +1,9 @@
 // Embree 3 ground truth. EmbreeTracer owns an Embree device and a robust scene
 // (RTC_SCENE_FLAG_ROBUST) of the same primitives, in the same order, so Embree's primID is our
-// primitive id. EmbreeAccel plugs into the core kernel's closestHit/anyHit overloads, so a
-// frame traced by Embree is shaded by exactly the code that shades our layouts.
+// primitive id. Without the flag (robust = false, the `embree-fast` backend) it is Embree in its
+// default mode, a third-party tracer `octrace certify` can be shown on. EmbreeAccel plugs into the
+// core kernel's closestHit/anyHit overloads, so a frame traced by Embree is shaded by exactly the
+// code that shades our layouts.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -24,7 +26,8 @@ struct EmbreeAccel {
 
 class EmbreeTracer {
 public:
-    explicit EmbreeTracer(const Scene& scene);  // throws EmbreeError with Embree's message
+    // Throws EmbreeError with Embree's message.
+    explicit EmbreeTracer(const Scene& scene, bool robust = true);
     ~EmbreeTracer();
     EmbreeTracer(const EmbreeTracer&) = delete;
     EmbreeTracer& operator=(const EmbreeTracer&) = delete;

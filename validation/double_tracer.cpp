@@ -134,7 +134,8 @@ bool raySphere(const DoubleRay& r, DVec3 c, double radius, double& tHit) {
 const char* reasonName(int bit) {
     static const char* names[kReasonCount] = {"edge_or_vertex", "grazing",       "degenerate",
                                               "tangent",        "range_end",     "reference_off",
-                                              "terminator",     "not_rechecked", "invalid_hit"};
+                                              "terminator",     "not_rechecked", "invalid_hit",
+                                              "missed_hit",     "false_hit",     "t_outside_range"};
     return bit >= 0 && bit < kReasonCount ? names[bit] : "unknown";
 }
 
@@ -279,6 +280,22 @@ double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
     }
     const Sphere& s = scene_->spheres[prim];
     return std::fabs(norm(p - d3(s.center)) - double(s.radius));
+}
+
+int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
+    int32_t best = -1;
+    dist = INFINITY;
+    for (uint32_t i = 0; i < count_; ++i) {
+        // The bounding sphere bounds the distance from below: skip what cannot be nearer.
+        double lower = norm(p - boundCentre_[i]) - boundRadius_[i];
+        if (lower > dist) continue;
+        double d = distanceTo(i, p);
+        if (d < dist) {
+            dist = d;
+            best = int32_t(i);
+        }
+    }
+    return best;
 }
 
 uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {

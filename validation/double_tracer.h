@@ -20,17 +20,20 @@ namespace oct {
 
 // Why a mismatch is ambiguous rather than wrong (a bit set; 0 = no reason).
 enum AmbiguityReason : uint32_t {
-    kEdgeOrVertex = 1u << 0,  // the ray passes within the edge tolerance of a triangle's edge
-    kGrazing = 1u << 1,       // |cos(ray, normal)| <= grazing threshold, ray on the triangle
-    kDegenerate = 1u << 2,    // triangle's smallest altitude <= edge tolerance
-    kTangent = 1u << 3,       // the ray is within the edge tolerance of a sphere's silhouette
-    kRangeEnd = 1u << 4,      // the primitive lies within tolerance of the segment's ends
-    kReferenceOff = 1u << 5,  // the double truth agrees with ours; the reference differs
-    kTerminator = 1u << 6,    // only one tracer cast a shadow ray (surface edge-on to light)
-    kNotRechecked = 1u << 7,  // over the recheck budget: counted as wrong, never ambiguous
-    kInvalidHit = 1u << 8,    // ours reported a non-finite t or a primitive id out of range: wrong
+    kEdgeOrVertex = 1u << 0,   // the ray passes within the edge tolerance of a triangle's edge
+    kGrazing = 1u << 1,        // |cos(ray, normal)| <= grazing threshold, ray on the triangle
+    kDegenerate = 1u << 2,     // triangle's smallest altitude <= edge tolerance
+    kTangent = 1u << 3,        // the ray is within the edge tolerance of a sphere's silhouette
+    kRangeEnd = 1u << 4,       // the primitive lies within tolerance of the segment's ends
+    kReferenceOff = 1u << 5,   // the double truth agrees with ours; the reference differs
+    kTerminator = 1u << 6,     // only one tracer cast a shadow ray (surface edge-on to light)
+    kNotRechecked = 1u << 7,   // over the recheck budget: counted as wrong, never ambiguous
+    kInvalidHit = 1u << 8,     // ours is malformed (hit_check.h, HitClassifier::malformed): wrong
+    kMissedHit = 1u << 9,      // wrong: the truth hits a primitive before ours, nothing touchy
+    kFalseHit = 1u << 10,      // wrong: our primitive is not at our t, nothing touchy
+    kOutsideRange = 1u << 11,  // wrong: a hit whose t lies outside the ray's [tmin, tmax]
 };
-constexpr int kReasonCount = 9;
+constexpr int kReasonCount = 12;
 const char* reasonName(int bit);            // "edge_or_vertex", "grazing", ...
 std::string reasonNames(uint32_t reasons);  // comma-separated, "" for none
 
@@ -68,6 +71,9 @@ public:
     uint32_t touchiness(uint32_t prim, const DoubleRay& r) const;
     // Distance from a point to the primitive's surface (the closed triangle; the sphere).
     double distanceTo(uint32_t prim, DVec3 p) const;
+    // The primitive whose surface is nearest to p (lowest id among equals); `dist` receives the
+    // distance. -1 for a scene without primitives.
+    int32_t nearestTo(DVec3 p, double& dist) const;
     // Union of touchiness over every primitive near the ray's segment.
     uint32_t touchinessNear(const DoubleRay& r) const;
 

@@ -25,8 +25,15 @@ HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
       truth_(scene, {policy.edgeTolerance * sceneExtent(scene), policy.grazingCos}) {}
 
 bool HitClassifier::malformed(Hit h) const {
-    if (h.prim < 0) return false;
+    if (h.prim == -1) return !(h.t == INFINITY);
+    if (h.prim < -1) return true;
     return !std::isfinite(h.t) || uint32_t(h.prim) >= truth_.primitiveCount();
+}
+
+bool HitClassifier::malformed(const Ray& ray, Hit h) const {
+    if (malformed(h)) return true;
+    // Written as !(in range) so that a NaN bound (never in a checked ray file) fails too.
+    return h.prim >= 0 && !(h.t >= ray.tmin && h.t <= ray.tmax);
 }
 
 double HitClassifier::relativeDt(Hit a, Hit b, float dirLength) const {
@@ -48,7 +55,7 @@ bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const {
 HitClass HitClassifier::compare(const Ray& ray, Hit ours, Hit reference) const {
     // A malformed answer on either side goes to the recheck: ours is wrong there (invalid_hit),
     // and a broken reference must not make a tie or an agreement out of nothing.
-    if (malformed(ours) || malformed(reference)) return HitClass::Wrong;
+    if (malformed(ray, ours) || malformed(ray, reference)) return HitClass::Wrong;
     bool ho = ours.prim >= 0, hr = reference.prim >= 0;
     if (!ho && !hr) return HitClass::Agree;
     if (ho != hr) return HitClass::Wrong;
@@ -78,9 +85,9 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     const double tTol = tolAbs / dirLength;              // in units of t
     auto hits = truth_.allHits(dr);
     if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
-    if (malformed(ours)) {  // nothing to recheck: no primitive of the scene is there
+    if (malformed(ray, ours)) {  // nothing to recheck: not an answer to this ray
         v.cls = HitClass::Wrong;
-        v.reasons = kInvalidHit;
+        v.reasons = malformed(ours) ? kInvalidHit : kOutsideRange;
         return v;
     }
     const bool oursHit = ours.prim >= 0;
@@ -88,7 +95,7 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
 
     bool clean = false;  // an error nothing excuses
-    uint32_t reasons = 0;
+    uint32_t reasons = 0, wrongWhy = 0;
     // 1. Our own answer: a hit on q at tOurs, confirmed when the double test hits q within the
     // tolerance of tOurs, or when our hit point lies within the edge tolerance of q itself (a
     // grazing ray: the same small distance off the surface is a long way along the ray). The
@@ -102,7 +109,10 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
             DVec3 p = {dr.org.x + dr.dir.x * tOurs, dr.org.y + dr.dir.y * tOurs,
                        dr.org.z + dr.dir.z * tOurs};
             if (r == 0 && truth_.distanceTo(q, p) <= truth_.tolerance().distance) r = kGrazing;
-            if (r == 0) clean = true;
+            if (r == 0) {
+                clean = true;
+                wrongWhy |= kFalseHit;
+            }
             reasons |= r;
         }
     }
@@ -112,11 +122,15 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
         if (!(h.first < tOurs - tTol)) break;
         if (oursHit && h.second == q) continue;  // our own primitive, judged above
         uint32_t r = truth_.touchiness(h.second, dr);
-        if (r == 0) clean = true;
+        if (r == 0) {
+            clean = true;
+            wrongWhy |= kMissedHit;
+        }
         reasons |= r;
     }
     if (clean) {
         v.cls = HitClass::Wrong;
+        v.reasons = wrongWhy;
         return v;
     }
     bool agreesWithTruth = (!oursHit && hits.empty()) ||
@@ -127,7 +141,10 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
         if (oursHit) reasons |= truth_.touchiness(q, dr);
     }
     v.cls = reasons ? HitClass::Ambiguous : HitClass::Wrong;
-    v.reasons = reasons;
+    // Unexplained without a clean culprit: the truth's first hit is elsewhere than ours.
+    v.reasons = reasons ? reasons
+                        : (!hits.empty() && hits[0].first < tOurs ? uint32_t(kMissedHit)
+                                                                  : uint32_t(kFalseHit));
     return v;
 }
 
@@ -155,7 +172,8 @@ Verdict HitClassifier::recheckOcclusion(const Ray& ray, bool oursOccluded) const
         reasons = truth_.touchinessNear(dr);
     }
     v.cls = clean || reasons == 0 ? HitClass::Wrong : HitClass::Ambiguous;
-    v.reasons = v.cls == HitClass::Ambiguous ? reasons : 0;
+    v.reasons =
+        v.cls == HitClass::Ambiguous ? reasons : uint32_t(v.truthOccluded ? kMissedHit : kFalseHit);
     return v;
 }
 

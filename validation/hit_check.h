@@ -16,6 +16,9 @@
 //     configuration excuses, else wrong;
 //  3. nothing unexcused: ambiguous, with the reasons found; if ours also agrees with the
 //     truth by the first-step rule, the reference was the one off (reason reference_off).
+// A wrong verdict says why: invalid_hit (malformed), t_outside_range (a hit beyond the ray's
+// [tmin, tmax]), false_hit (step 1: our primitive is not there), missed_hit (step 2: we missed
+// a primitive before our t), or not_rechecked.
 // Occlusion (one ray, ours != reference): ours equals the truth -> ambiguous, reference_off;
 // ours lit but occluded in truth -> every occluder must be touchy; ours occluded but lit in
 // truth -> some primitive near the segment must be touchy; else wrong.
@@ -72,9 +75,12 @@ public:
     // The first step: Agree, Tie, or Wrong standing for "mismatch, recheck it". Needs the ray
     // only to confirm a tie (tieHolds); everything else is |dt| and the primitive ids.
     HitClass compare(const Ray& ray, Hit ours, Hit reference) const;
-    // A hit no correct tracer reports: t not finite, or a primitive id >= the scene's count.
-    // A miss (prim < 0) is well-formed whatever its t.
+    // An answer no correct tracer gives (docs/TRACE_FORMAT.md): a hit (prim >= 0) with a t that
+    // is not finite or a primitive id >= the scene's count; a primitive id below -1; a miss
+    // (prim -1) whose t is not +inf.
     bool malformed(Hit h) const;
+    // The same, and a hit's t outside the ray's [tmin, tmax].
+    bool malformed(const Ray& ray, Hit h) const;
     // A different primitive at the same t is a tie only when our primitive passes within the
     // edge tolerance of our hit point: a shared edge or vertex, or surfaces crossing there.
     // O(1): one point-to-primitive distance.

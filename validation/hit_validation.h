@@ -1,7 +1,8 @@
-// Per-pixel and per-ray validation of one tracer's answers against a reference's, by the
-// policy of hit_check.h. Inputs are Films and hit arrays (plus the scene and the frame for
-// rechecks): validation never sees a layout's insides, so a Film rendered from a deliberately
-// corrupted structure is validated exactly like any other.
+// Per-pixel validation of one tracer's Film against a reference's, by the policy of
+// hit_check.h, and the counts and findings it shares with the per-ray check (certify.h). Inputs
+// are Films (plus the scene and the frame for rechecks): validation never sees a layout's
+// insides, so a Film rendered from a deliberately corrupted structure is validated exactly like
+// any other.
 #pragma once
 
 #include <array>
@@ -13,7 +14,6 @@
 #include "core/render/camera.h"
 #include "core/render/frame.h"
 #include "validation/hit_check.h"
-#include "validation/ray_sets.h"
 
 namespace oct {
 
@@ -49,9 +49,9 @@ struct Finding {
     uint32_t reasons = 0;
     Hit ours = {INFINITY, -1}, reference = {INFINITY, -1};
     bool rechecked = false;
-    Hit truth = {INFINITY, -1};      // double-precision closest hit, when rechecked
-    double relativeDt = 0.0;         // |dt| / extent (+inf for hit against miss)
-    RayKind kind = RayKind::Around;  // rays only
+    Hit truth = {INFINITY, -1};  // double-precision closest hit, when rechecked
+    double relativeDt = 0.0;     // |dt| / extent (+inf for hit against miss)
+    std::string set;             // rays only: the ray set's name
     Ray ray{};
 };
 
@@ -92,19 +92,5 @@ using OcclusionQuery = std::function<bool(const Ray&)>;
 // sizes differ from the frame's.
 FilmValidation validateFilm(const HitClassifier& c, const FrameParams& frame, const Film& ours,
                             const Film& reference, const OcclusionQuery& referenceOccluded = {});
-
-struct RayValidation {
-    ClassCounts all;
-    std::array<ClassCounts, kRayKindCount> byKind;
-    std::vector<Finding> worst;
-
-    bool passes(double maxAmbiguousRate) const { return all.passes(maxAmbiguousRate); }
-};
-
-// Compares closest hits of a ray set (RayBatchView layout: 8 floats per ray).
-RayValidation validateRays(const HitClassifier& c, const ValidationRays& rays,
-                           const std::vector<float>& tOurs, const std::vector<int32_t>& pOurs,
-                           const std::vector<float>& tReference,
-                           const std::vector<int32_t>& pReference);
 
 }  // namespace oct

@@ -1,91 +1,12 @@
 #include "validation/report.h"
 
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
+
+#include "validation/report_util.h"
 
 namespace oct {
-namespace {
-
 using nlohmann::json;
-
-// Non-finite numbers become null (JSON has no inf).
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
-json hitJson(Hit h) { return {{"t", num(h.t)}, {"prim", h.prim}}; }
-
-json reasonsJson(uint32_t reasons) {
-    json a = json::array();
-    for (int b = 0; b < kReasonCount; ++b)
-        if (reasons & (1u << b)) a.push_back(reasonName(b));
-    return a;
-}
-
-json findingJson(const Finding& f, bool pixel) {
-    json j;
-    if (pixel) {
-        j["x"] = f.x;
-        j["y"] = f.y;
-    } else {
-        j["index"] = f.index;
-        j["kind"] = rayKindName(f.kind);
-        j["ray"] = {f.ray.org.x, f.ray.org.y, f.ray.org.z,     f.ray.dir.x,
-                    f.ray.dir.y, f.ray.dir.z, num(f.ray.tmin), num(f.ray.tmax)};
-    }
-    j["class"] = hitClassName(f.cls);
-    j["reasons"] = reasonsJson(f.reasons);
-    j["ours"] = hitJson(f.ours);
-    j["reference"] = hitJson(f.reference);
-    if (f.rechecked) j["truth"] = hitJson(f.truth);
-    j["relative_dt"] = num(f.relativeDt);
-    return j;
-}
-
-const char* shadowState(uint8_t s) {
-    return s == kOccluded ? "occluded" : (s == kLit ? "lit" : "none");
-}
-
-json shadowJson(const ShadowFinding& f) {
-    json j = {{"x", f.x},
-              {"y", f.y},
-              {"class", hitClassName(f.cls)},
-              {"reasons", reasonsJson(f.reasons)},
-              {"ours", shadowState(f.ours)},
-              {"reference", shadowState(f.reference)}};
-    if (f.referenceOnOurRay >= 0)
-        j["reference_on_our_ray"] = f.referenceOnOurRay ? "occluded" : "lit";
-    if (f.truthOccluded >= 0) j["truth"] = f.truthOccluded ? "occluded" : "lit";
-    return j;
-}
-
-std::string fmt(const char* f, ...) {
-    char buf[1024];
-    va_list ap;
-    va_start(ap, f);
-    std::vsnprintf(buf, sizeof buf, f, ap);
-    va_end(ap);
-    return buf;
-}
-
-std::string hitText(Hit h) {
-    return h.prim < 0 ? std::string("miss") : fmt("t=%.9g #%d", double(h.t), h.prim);
-}
-
-std::string countsLine(const char* what, const ClassCounts& c) {
-    return fmt("  %-8s %9llu %9llu %7llu %9llu %7llu %10.3g %12.3g\n", what,
-               (unsigned long long)c.compared, (unsigned long long)c.agree,
-               (unsigned long long)c.ties, (unsigned long long)c.ambiguous,
-               (unsigned long long)c.wrong, c.ambiguousRate(), c.maxRelativeDt);
-}
-
-std::string reasonsText(const ClassCounts& c) {
-    std::string s;
-    for (int b = 0; b < kReasonCount; ++b)
-        if (c.reasons[b]) s += fmt(" %s %llu", reasonName(b), (unsigned long long)c.reasons[b]);
-    return s;
-}
-
-}  // namespace
+using namespace report_detail;
 
 json toJson(const ClassCounts& c) {
     json reasons = json::object();
@@ -152,17 +73,30 @@ json toJson(const ReplicationReport& r) {
             {"seconds", r.seconds}};
 }
 
+namespace {
+
+json raySetJson(const ValidationReport& r) {
+    json j = {{"count", r.rayCount}, {"seed", r.seed}};
+    for (const RaySetRange& s : r.raySets) j[s.name] = s.count;
+    return j;
+}
+
+std::string raySetText(const ValidationReport& r) {
+    std::string s;
+    for (const RaySetRange& k : r.raySets)
+        s += fmt("%s%s %llu", s.empty() ? "" : ", ", k.name.c_str(), (unsigned long long)k.count);
+    return s;
+}
+
+}  // namespace
+
 json toJson(const ValidationReport& r) {
     json runs = json::array();
     for (const RunReport& run : r.runs) {
         json shadow = toJson(run.film.shadow);
         shadow["resolved_by_rerun"] = run.film.shadowResolvedByRerun;
         shadow["not_compared"] = run.film.shadowNotCompared;
-        json rays = toJson(run.rays.all);
-        json byKind = json::object();
-        for (int k = 0; k < kRayKindCount; ++k)
-            byKind[rayKindName(RayKind(k))] = toJson(run.rays.byKind[k]);
-        rays["by_kind"] = byKind;
+        json rays = toJson(run.rays, r.policy.maxAmbiguousRate);
         json wp = json::array(), ws = json::array(), wr = json::array();
         for (const Finding& f : run.film.worstPixels) wp.push_back(findingJson(f, true));
         for (const ShadowFinding& f : run.film.worstShadows) ws.push_back(shadowJson(f));
@@ -195,12 +129,7 @@ json toJson(const ValidationReport& r) {
                 {"max_ambiguous_rate", r.policy.maxAmbiguousRate},
                 {"max_rechecks", r.policy.maxRechecks}}},
               {"frame", {{"width", r.width}, {"height", r.height}}},
-              {"ray_set",
-               {{"count", r.rayCount},
-                {"seed", r.seed},
-                {"around", r.raysByKind[0]},
-                {"inside", r.raysByKind[1]},
-                {"axis", r.raysByKind[2]}}},
+              {"ray_set", raySetJson(r)},
               {"reference",
                {{"tracer", "embree (RTC_SCENE_FLAG_ROBUST)"}, {"seconds", r.referenceSeconds}}},
               {"runs", runs},
@@ -279,13 +208,10 @@ std::string humanSummary(const ReplicationReport& r) {
 
 std::string humanSummary(const ValidationReport& r) {
     std::string s;
-    s +=
-        fmt("validate %s: %u %s, extent %.6g; %dx%d pixels, %llu rays (seed %llu: around %llu, "
-            "inside %llu, axis %llu)\n",
-            r.scene.c_str(), r.primitives, r.kind == PrimKind::Triangles ? "triangles" : "spheres",
-            r.extent, r.width, r.height, (unsigned long long)r.rayCount, (unsigned long long)r.seed,
-            (unsigned long long)r.raysByKind[0], (unsigned long long)r.raysByKind[1],
-            (unsigned long long)r.raysByKind[2]);
+    s += fmt("validate %s: %u %s, extent %.6g; %dx%d pixels, %llu rays (seed %llu: %s)\n",
+             r.scene.c_str(), r.primitives, r.kind == PrimKind::Triangles ? "triangles" : "spheres",
+             r.extent, r.width, r.height, (unsigned long long)r.rayCount,
+             (unsigned long long)r.seed, raySetText(r).c_str());
     s +=
         fmt("policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: "
             "|cos| <= %.3g; pass: no wrong, ambiguous rate <= %.3g\n",
@@ -299,16 +225,10 @@ std::string humanSummary(const ValidationReport& r) {
         s += "  check     compared     agree    ties ambiguous   wrong  amb. rate  max|dt|/ext\n";
         s += countsLine("primary", run.film.primary);
         s += countsLine("shadow", run.film.shadow);
-        s += countsLine("rays", run.rays.all);
-        for (int k = 0; k < kRayKindCount; ++k)
-            s += countsLine((std::string(" ") + rayKindName(RayKind(k))).c_str(),
-                            run.rays.byKind[k]);
         std::string reasons = reasonsText(run.film.primary);
         if (!reasons.empty()) s += "  primary ambiguous by reason:" + reasons + "\n";
         reasons = reasonsText(run.film.shadow);
         if (!reasons.empty()) s += "  shadow ambiguous by reason:" + reasons + "\n";
-        reasons = reasonsText(run.rays.all);
-        if (!reasons.empty()) s += "  rays ambiguous by reason:" + reasons + "\n";
         if (run.film.shadowResolvedByRerun || run.film.shadowNotCompared)
             s +=
                 fmt("  shadow: %llu differing states reproduced by Embree on our shadow ray "
@@ -341,18 +261,8 @@ std::string humanSummary(const ValidationReport& r) {
                      f.referenceOnOurRay < 0 ? "-" : (f.referenceOnOurRay ? "occluded" : "lit"),
                      f.truthOccluded < 0 ? "-" : (f.truthOccluded ? "occluded" : "lit"));
         }
-        shown = 0;
-        for (const Finding& f : run.rays.worst) {
-            if (f.cls != HitClass::Ambiguous && f.cls != HitClass::Wrong) continue;
-            if (shown++ == 8) break;
-            if (shown == 1)
-                s += "  worst rays (index kind: class [reasons] ours | embree | truth)\n";
-            s += fmt("    %6llu %-6s %-9s %-16s %s | %s", (unsigned long long)f.index,
-                     rayKindName(f.kind), hitClassName(f.cls),
-                     ("[" + reasonNames(f.reasons) + "]").c_str(), hitText(f.ours).c_str(),
-                     hitText(f.reference).c_str());
-            s += f.rechecked ? " | " + hitText(f.truth) + "\n" : std::string("\n");
-        }
+        s += "  rays (the per-ray check of octrace certify)\n";
+        s += humanRaySets(run.rays, r.policy.maxAmbiguousRate);
     }
     if (r.replication) s += "\n" + humanSummary(*r.replication);
     s += fmt("\n%s: %llu wrong, %llu ambiguous over %zu run(s)%s (%.2f s)\n",

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "validation/certify.h"
 #include "validation/table1.h"
 #include "validation/validate.h"
 
@@ -20,5 +21,13 @@ nlohmann::json toJson(const std::vector<Table1Row>& rows);
 std::string humanSummary(const ReplicationReport& r);
 std::string humanSummary(const ValidationReport& r);
 std::string humanTable1(const std::vector<Table1Row>& rows);
+
+// The per-ray check (certify.h), shared by validate's and certify's reports: counts per set,
+// reasons, the first wrong and ambiguous rays, the leaks.
+nlohmann::json toJson(const RayCertification& r, double maxAmbiguousRate);
+std::string humanRaySets(const RayCertification& r, double maxAmbiguousRate);
+// `octrace certify` (certify_report.cpp).
+nlohmann::json toJson(const CertifyReport& r);
+std::string humanSummary(const CertifyReport& r);
 
 }  // namespace oct

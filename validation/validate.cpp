@@ -46,9 +46,9 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     FrameParams frame = makeFrame(scene.bounds(), o.camera);
     rep.width = frame.width;
     rep.height = frame.height;
-    ValidationRays rays = makeValidationRays(scene, o.rays, o.seed);
+    const RaySet rays = makeValidationRays(scene, o.rays, o.seed);
     rep.rayCount = rays.count();
-    for (RayKind k : rays.kind) ++rep.raysByKind[int(k)];
+    rep.raySets = rays.sets;
 
     // The reference: Embree (robust mode) through the same per-pixel kernel.
     auto refStart = std::chrono::steady_clock::now();
@@ -56,9 +56,10 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     EmbreeSceneTracer embree(bare);
     Film refFilm;
     embree.render(frame, refFilm);
-    std::vector<float> tRef(rays.count());
-    std::vector<int32_t> pRef(rays.count());
-    embree.trace({rays.rays.data(), tRef.data(), pRef.data(), rays.count()});
+    HitArrays ref;
+    ref.t.resize(rays.count());
+    ref.prim.resize(rays.count());
+    embree.trace({rays.rays.data(), ref.t.data(), ref.prim.data(), rays.count()});
     rep.referenceSeconds = since(refStart);
     OcclusionQuery occluded = [&embree](const Ray& r) {
         TraceCost cost = {0, 0};
@@ -73,14 +74,17 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
         Film film;
         t.render(frame, film);
         run.renderSeconds = since(t0);
-        std::vector<float> tOurs(rays.count());
-        std::vector<int32_t> pOurs(rays.count());
+        // Generate our hits, then certify them: the same code as `octrace certify`.
+        HitArrays ours;
+        ours.t.resize(rays.count());
+        ours.prim.resize(rays.count());
         t0 = std::chrono::steady_clock::now();
-        if (rays.count() > 0) t.trace({rays.rays.data(), tOurs.data(), pOurs.data(), rays.count()});
+        if (rays.count() > 0)
+            t.trace({rays.rays.data(), ours.t.data(), ours.prim.data(), rays.count()});
         run.traceSeconds = since(t0);
         t0 = std::chrono::steady_clock::now();
         run.film = validateFilm(classifier, frame, film, refFilm, occluded);
-        run.rays = validateRays(classifier, rays, tOurs, pOurs, tRef, pRef);
+        run.rays = certifyRays(classifier, rays, ours, ref);
         run.checkSeconds = since(t0);
         rep.runs.push_back(std::move(run));
     }

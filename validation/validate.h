@@ -1,8 +1,10 @@
 // `octrace validate` as a library call: each tracer under test (a layout on a backend, given as
 // two callables that fill a Film and a ray batch) against Embree, per pixel (primary and
 // shadow rays) and per ray of the seeded ray sets, plus the replication check of the canonical
-// octree. The callables keep validation away from the layouts' insides; the CLI builds them
-// with apps/backend.h, the tests with the OpenMP launcher or a deliberately corrupted layout.
+// octree. The per-ray check is `octrace certify`'s (certify.h): validate generates our hits for
+// the standard sets around, inside and axis, then certifies them. The callables keep validation
+// away from the layouts' insides; the CLI builds them with apps/backend.h, the tests with the
+// OpenMP launcher or a deliberately corrupted layout.
 #pragma once
 
 #include <functional>
@@ -13,6 +15,7 @@
 #include "core/octree/octree.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
+#include "validation/certify.h"
 #include "validation/hit_validation.h"
 #include "validation/replication.h"
 
@@ -42,7 +45,7 @@ struct ValidateOptions {
 struct RunReport {
     std::string layout, backend;
     FilmValidation film;
-    RayValidation rays;
+    RayCertification rays;
     double renderSeconds = 0.0, traceSeconds = 0.0, checkSeconds = 0.0;
 
     bool passes(double maxAmbiguousRate) const {
@@ -62,8 +65,8 @@ struct ValidationReport {
     ValidationPolicy policy;
     int width = 0, height = 0;
     uint64_t rayCount = 0, seed = 0;
-    std::array<uint64_t, kRayKindCount> raysByKind{};
-    double referenceSeconds = 0.0;  // Embree: build, frame and rays
+    std::vector<RaySetRange> raySets;  // around, inside, axis
+    double referenceSeconds = 0.0;     // Embree: build, frame and rays
     std::vector<RunReport> runs;
     std::optional<ReplicationReport> replication;
     double seconds = 0.0;

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "validation/hit_validation.h"
+#include "validation/certify.h"
 
 namespace oct {
 namespace {
@@ -180,8 +180,8 @@ TEST_F(HitCheck, OcclusionRecheck) {
     EXPECT_TRUE(v.reasons & kRangeEnd) << reasonNames(v.reasons);
 }
 
-// The same policy through the full per-ray classification (validateRays): counts, reasons and
-// the maximum |dt|, not just the first step.
+// The same policy through the full per-ray classification (certifyRays, shared by validate and
+// certify): counts, reasons and the maximum |dt|, not just the first step.
 TEST_F(HitCheck, RaySetClassifiesTiesWrongPrimitivesAndMalformedHits) {
     struct Case {
         Ray ray;
@@ -193,20 +193,19 @@ TEST_F(HitCheck, RaySetClassifiesTiesWrongPrimitivesAndMalformedHits) {
         {down(0.7f, 0.2f), {NAN, 0}, {1.0f, 0}},   // a NaN distance: wrong, invalid_hit
         {down(0.3f, 0.6f), {1.0f, 1}, {1.0f, 1}},  // the same answer: agree
     };
-    ValidationRays rays;
-    std::vector<float> tOurs, tRef;
-    std::vector<int32_t> pOurs, pRef;
+    RaySet rays;
+    HitArrays ours, ref;
     for (const Case& k : cases) {
         const Ray& r = k.ray;
         rays.rays.insert(rays.rays.end(),
                          {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax});
-        rays.kind.push_back(RayKind::Around);
-        tOurs.push_back(k.ours.t);
-        pOurs.push_back(k.ours.prim);
-        tRef.push_back(k.reference.t);
-        pRef.push_back(k.reference.prim);
+        ours.t.push_back(k.ours.t);
+        ours.prim.push_back(k.ours.prim);
+        ref.t.push_back(k.reference.t);
+        ref.prim.push_back(k.reference.prim);
     }
-    RayValidation v = validateRays(c, rays, tOurs, pOurs, tRef, pRef);
+    rays.sets = {{"around", 0, cases.size()}};
+    RayCertification v = certifyRays(c, rays, ours, ref);
     EXPECT_EQ(v.all.compared, 4u);
     EXPECT_EQ(v.all.ties, 1u);
     EXPECT_EQ(v.all.agree, 1u);

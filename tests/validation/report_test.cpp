@@ -25,7 +25,9 @@ TEST(Report, JsonHasThePlainFields) {
     EXPECT_EQ(j["runs"][0]["layout"], "linear");
     EXPECT_EQ(j["runs"][0]["primary"]["compared"], 256);
     EXPECT_EQ(j["runs"][0]["rays"]["compared"], 300);
-    EXPECT_TRUE(j["runs"][0]["rays"]["by_kind"].contains("axis"));
+    EXPECT_TRUE(j["runs"][0]["rays"]["by_set"].contains("axis"));
+    EXPECT_EQ(j["runs"][0]["rays"]["by_set"]["axis"]["rows"], 100);
+    EXPECT_EQ(j["ray_set"]["around"], 100);
     EXPECT_EQ(j["policy"]["max_ambiguous_rate"], rep.policy.maxAmbiguousRate);
     EXPECT_NE(humanSummary(rep).find("PASS"), std::string::npos);
 }

@@ -1,0 +1,169 @@
+// octrace rays: the standard, seeded ray sets (validation/ray_sets.h, docs/CERTIFY.md) as a ray
+// file in the trace format, plus the manifest beside it that `octrace certify` reads.
+//   R.npy  float32 (N, 8): ox oy oz dx dy dz tmin tmax (docs/TRACE_FORMAT.md)
+//   R.json the manifest (validation/ray_manifest.h): scene, seed, sets and their rows, camera
+//   T.npy  (--triangles) float32 (M, 9): each triangle's v0 v1 v2 in primitive id order
+#include <cstdio>
+#include <optional>
+
+#include "apps/cli.h"
+#include "apps/ray_files.h"
+#include "core/io/npy.h"
+#include "core/scene/load_scene.h"
+#include "validation/ray_manifest.h"
+
+namespace oct {
+namespace {
+
+// Same bound as validate's --rays: 8 floats a ray plus the answers of a tracer.
+constexpr uint64_t kMaxRays = 100000000;
+
+struct RaysOptions {
+    std::string scene;
+    float radius = 0.0f;
+    std::string sets = "all", out, triangles;
+    uint64_t count = 30000, seed = 1;
+    std::string size = "256x256", eye, target, up, light;
+    float fov = 45.0f;
+};
+
+std::optional<Vec3> optionalVec3(const char* option, const std::string& text) {
+    if (text.empty()) return std::nullopt;
+    return parseVec3(option, text);
+}
+
+CameraOptions cameraOptions(const RaysOptions& o) {
+    CameraOptions c;
+    parseImageSize(o.size, c.width, c.height);
+    c.eye = optionalVec3("--eye", o.eye);
+    c.target = optionalVec3("--target", o.target);
+    c.up = optionalVec3("--up", o.up);
+    c.light = optionalVec3("--light", o.light);
+    c.fovDegrees = o.fov;
+    makeFrame({{-1, -1, -1}, {1, 1, 1}}, c);  // the options' own errors, before loading
+    return c;
+}
+
+// --set: names or "all" (every set; on a point cloud, those that need no triangles).
+std::vector<RaySetKind> parseSets(const std::string& text, const Scene& scene,
+                                  std::vector<std::string>& notes) {
+    std::vector<RaySetKind> out;
+    for (const std::string& name : splitList(text)) {
+        if (name == "all") {
+            for (int k = 0; k < kRaySetKindCount; ++k) {
+                RaySetKind kind = RaySetKind(k);
+                if (needsTriangles(kind) && scene.kind != PrimKind::Triangles) {
+                    notes.push_back(std::string("set ") + raySetName(kind) +
+                                    " left out: it needs a triangle mesh");
+                    continue;
+                }
+                if (std::find(out.begin(), out.end(), kind) == out.end()) out.push_back(kind);
+            }
+            continue;
+        }
+        std::optional<RaySetKind> k = findRaySet(name);
+        if (!k)
+            throw CLI::ValidationError("--set",
+                                       "unknown set '" + name + "' (" + raySetNames() + ", all)");
+        if (std::find(out.begin(), out.end(), *k) != out.end())
+            throw CLI::ValidationError("--set", "'" + name + "' is named twice");
+        out.push_back(*k);
+    }
+    if (out.empty())
+        throw CLI::ValidationError("--set",
+                                   "'" + text + "' names no set (" + raySetNames() + ", all)");
+    return out;
+}
+
+void runRays(const RaysOptions& o) {
+    RaySetSpec spec;
+    spec.camera = cameraOptions(o);
+    spec.count = o.count;
+    spec.seed = o.seed;
+    if (o.count > kMaxRays)
+        throw std::runtime_error("--count " + std::to_string(o.count) + " is more than " +
+                                 std::to_string(kMaxRays) + " rays; use fewer");
+    const std::string manifestPath = manifestPathFor(o.out);
+    cli_stopgap::refuseClobber({o.out, manifestPath, o.triangles}, {o.scene});
+    for (const std::string& p : {o.out, manifestPath, o.triangles})
+        if (!p.empty()) checkWritable(p);
+
+    LoadOptions lo;
+    lo.radius = o.radius;
+    Scene scene = loadScene(o.scene, lo);
+    if (scene.report.totalDropped() > 0)
+        std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
+                     (unsigned long long)scene.report.totalDropped());
+    std::vector<std::string> notes;
+    spec.sets = parseSets(o.sets, scene, notes);
+    if (!o.triangles.empty() && scene.kind != PrimKind::Triangles)
+        throw std::runtime_error("--triangles: '" + o.scene + "' is a point cloud");
+
+    // The shadow set starts at the reference's camera hits: Embree from the backend list.
+    std::unique_ptr<SceneTracer> reference;
+    BuiltScene bare = bareScene(scene);
+    if (std::find(spec.sets.begin(), spec.sets.end(), RaySetKind::Shadow) != spec.sets.end()) {
+        std::string note;
+        reference = resolveBackend("embree", note).prepare(bare);
+    }
+    TraceBatch trace;
+    if (reference) trace = [&reference](RayBatchView b) { reference->trace(b); };
+    RaySet rays = makeRaySet(scene, spec, trace);
+    RayManifest manifest = describeRaySet(scene, spec, rays);
+
+    OutputSet out;  // all files or none
+    out.stage(o.out, encodeNpy("<f4", {rays.count(), 8}, rays.rays.data(), 4));
+    const std::string json = toJson(manifest).dump(2) + "\n";
+    out.stage(manifestPath, json.data(), json.size());
+    if (!o.triangles.empty()) {
+        static_assert(sizeof(Triangle) == 36, "a triangle is nine packed floats");
+        out.stage(o.triangles, encodeNpy("<f4", {uint64_t(scene.triangles.size()), 9},
+                                         scene.triangles.data(), 4));
+    }
+    out.commit();
+
+    for (const std::string& n : notes) std::printf("note    %s\n", n.c_str());
+    std::printf("%s: %u %s; %llu rays, seed %llu\n", scene.name.c_str(), scene.primitiveCount(),
+                scene.kind == PrimKind::Triangles ? "triangles" : "spheres",
+                (unsigned long long)rays.count(), (unsigned long long)o.seed);
+    for (const RaySetRange& r : rays.sets)
+        std::printf("  %-10s rows %llu..%llu (%llu)\n", r.name.c_str(), (unsigned long long)r.begin,
+                    (unsigned long long)(r.begin + r.count), (unsigned long long)r.count);
+    std::printf("fnv1a64 %s\n", manifest.checksum.c_str());
+    std::printf("wrote   %s %s%s%s\n", o.out.c_str(), manifestPath.c_str(),
+                o.triangles.empty() ? "" : " ", o.triangles.c_str());
+}
+
+}  // namespace
+
+void registerRays(CLI::App& app) {
+    auto o = std::make_shared<RaysOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "rays",
+        "Write standard, seeded ray sets (.npy, trace format) and their manifest (.json) for "
+        "octrace certify (docs/CERTIFY.md)");
+    cmd->add_option("scene", o->scene,
+                    "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or grid:N[:SEED]")
+        ->required();
+    cmd->add_option("--radius", o->radius, "Sphere radius for point clouds (as octrace info)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--set,--sets", o->sets, "Sets, comma-separated: " + raySetNames() + ", or all")
+        ->capture_default_str();
+    cmd->add_option("--count", o->count,
+                    "Rays over the seeded sets together (all but camera and shadow), split "
+                    "evenly; at most 1e8")
+        ->capture_default_str();
+    cmd->add_option("--seed", o->seed, "Seed of the seeded sets")->capture_default_str();
+    cmd->add_option("--out", o->out, "Ray file R.npy; the manifest goes to R.json")->required();
+    cmd->add_option("--triangles", o->triangles,
+                    "Also write the triangles as octrace numbers them: float32 (M, 9) .npy");
+    cmd->add_option("--size", o->size, "Camera set: image size WxH")->capture_default_str();
+    cmd->add_option("--eye", o->eye, "Camera position x,y,z (default: framed as render)");
+    cmd->add_option("--target", o->target, "Point looked at x,y,z");
+    cmd->add_option("--up", o->up, "Up vector x,y,z (default 0,1,0)");
+    cmd->add_option("--fov", o->fov, "Vertical field of view, degrees")->capture_default_str();
+    cmd->add_option("--light", o->light, "Point light x,y,z (shadow set)");
+    cmd->callback([o] { runRays(*o); });
+}
+
+}  // namespace oct

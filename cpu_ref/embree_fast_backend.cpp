@@ -1,0 +1,27 @@
+#include "cpu_ref/embree_fast_backend.h"
+
+#include "cpu_ref/embree_backend.h"
+
+namespace oct {
+namespace {
+
+bool alwaysAvailable(std::string& why) {
+    why = "Embree on the host";
+    return true;
+}
+
+std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
+    return std::make_unique<EmbreeSceneTracer>(scene, /*robust=*/false);
+}
+
+}  // namespace
+
+BackendDesc embreeFastBackend() {
+    return {
+        "embree-fast", "Embree in its default (non-robust) mode: a third-party tracer to certify",
+        false,         "embree-bvh-fast",
+        false,         &alwaysAvailable,
+        &prepare};
+}
+
+}  // namespace oct

@@ -1,0 +1,290 @@
+// `octrace rays` and `octrace certify` run as a user runs them: rays, then a tracer (octrace
+// trace with every layout, embree-fast, the Python example), then certify. Its own hits pass;
+// bad hit files are one-line errors; a faulty answer fails naming its row; edited rays, a wrong
+// scene or an output over an input are refused; info says whether a mesh is closed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/io/npy.h"
+#include "core/octree/layout_registry.h"
+#include "core/scene/load_scene.h"
+#include "tests/cli_harness.h"
+#include "validation/ray_sets.h"
+
+namespace oct {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+const std::string kCube = kMeshes + "/cube_binary.ply";
+const std::string kTeapot = kMeshes + "/teapot.obj";
+
+using octtest::isOneLineError;
+using octtest::quote;
+using octtest::RunResult;
+using octtest::show;
+
+class CertifyCli : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!fs::exists(octtest::octraceBinary()))
+            GTEST_SKIP() << "no " << octtest::octraceBinary() << ": build target octrace";
+        root_ = std::make_unique<octtest::TempDir>("certify_cli");
+        work_ = root_->path() / "work";
+        fs::create_directories(work_);
+    }
+    RunResult run(const std::string& args) const {
+        return octtest::runOctrace(args, root_->path() / "capture");
+    }
+    std::string q(const std::string& name) const { return quote((work_ / name).string()); }
+    std::string path(const std::string& name) const { return (work_ / name).string(); }
+
+    // rays + trace (one layout, CPU) into R.npy and H.*.npy.
+    void raysAndTrace(const std::string& scene, const std::string& extra = "") {
+        RunResult r = run("rays " + quote(scene) + " --count 700 --size 16x16 --seed 3 --out " +
+                          q("R.npy") + " --triangles " + q("T.npy") + extra);
+        ASSERT_EQ(r.status, 0) << show(r);
+        r = run("trace " + quote(scene) + " --rays " + q("R.npy") + " --out " + q("H") +
+                " --backend cpu --accel linear --max-depth 5");
+        ASSERT_EQ(r.status, 0) << show(r);
+    }
+    std::string certify(const std::string& scene = kCube, const std::string& hits = "H") const {
+        return "certify " + quote(scene) + " --rays " + q("R.npy") + " --hits " + q(hits);
+    }
+    void writeNpy(const std::string& name, const std::string& descr,
+                  const std::vector<uint64_t>& shape, const void* data, size_t elem) const {
+        std::vector<uint8_t> b = encodeNpy(descr, shape, data, elem);
+        ASSERT_TRUE(octtest::writeFile(work_ / name, std::string(b.begin(), b.end())));
+    }
+    template <class T>
+    std::vector<T> readArray(const std::string& name) const {
+        NpyArray a = readNpy(path(name));
+        std::vector<T> v(a.elementCount());
+        if (!v.empty()) std::memcpy(v.data(), a.data.data(), a.data.size());
+        return v;
+    }
+
+    std::unique_ptr<octtest::TempDir> root_;
+    fs::path work_;
+};
+
+TEST_F(CertifyCli, OwnTraceOfEveryLayoutPasses) {
+    for (const std::string& scene : {kCube, kTeapot}) {
+        ASSERT_NO_FATAL_FAILURE(raysAndTrace(scene));
+        nlohmann::json manifest = nlohmann::json::parse(octtest::readFile(work_ / "R.json"));
+        EXPECT_EQ(manifest["format"], "octrace-rays");
+        EXPECT_EQ(manifest["sets"].size(), 9u);
+        for (const LayoutDesc& l : layouts()) {
+            SCOPED_TRACE(scene + " " + l.name);
+            RunResult r = run("trace " + quote(scene) + " --rays " + q("R.npy") + " --out " +
+                              q("H") + " --backend cpu --max-depth 5 --accel " + l.name);
+            ASSERT_EQ(r.status, 0) << show(r);
+            r = run(certify(scene) + " --json -");
+            ASSERT_EQ(r.status, 0) << show(r);
+            nlohmann::json j;
+            ASSERT_NO_THROW(j = nlohmann::json::parse(r.out)) << "stdout is not JSON:\n" << r.out;
+            EXPECT_TRUE(j["pass"].get<bool>());
+            EXPECT_EQ(j["wrong"], 0);
+            EXPECT_EQ(j["leaks"], 0);
+            EXPECT_TRUE(j["manifest"].get<bool>());
+            EXPECT_EQ(j["result"]["sets"].size(), 9u);
+            EXPECT_NE(r.err.find("PASS"), std::string::npos) << "the summary goes to stderr";
+        }
+    }
+}
+
+TEST_F(CertifyCli, ValidatesRaysAreTheStandardSetsByteForByte) {
+    RunResult r = run("rays " + quote(kTeapot) + " --set around,inside,axis --count 300 --seed 7" +
+                      " --out " + q("V.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    RaySet v = makeValidationRays(loadScene(kTeapot), 300, 7);
+    EXPECT_EQ(readArray<float>("V.npy"), v.rays);
+}
+
+TEST_F(CertifyCli, BadHitFilesAreOneLineErrors) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    const std::vector<float> t = readArray<float>("H.t.npy");
+    const std::vector<int32_t> prim = readArray<int32_t>("H.prim.npy");
+    const uint64_t n = t.size();
+    fs::copy_file(path("H.prim.npy"), path("B.prim.npy"));
+    std::vector<double> t64(t.begin(), t.end());
+    struct Case {
+        const char* what;
+        std::function<void()> make;
+        const char* file;
+    };
+    const std::vector<Case> cases = {
+        {"float64 t", [&] { writeNpy("B.t.npy", "<f8", {n}, t64.data(), 8); }, "B.t.npy"},
+        {"t of shape (N/2, 2)",
+         [&] {
+             writeNpy("B.t.npy", "<f4", {n / 2, 2}, t.data(), 4);
+         },
+         "B.t.npy"},
+        {"t one short", [&] { writeNpy("B.t.npy", "<f4", {n - 1}, t.data(), 4); }, "B.t.npy"},
+        {"prim as float32",
+         [&] {
+             writeNpy("B.t.npy", "<f4", {n}, t.data(), 4);
+             writeNpy("B.prim.npy", "<f4", {n}, t.data(), 4);
+         },
+         "B.prim.npy"},
+        {"prim as int64",
+         [&] {
+             std::vector<int64_t> p64(prim.begin(), prim.end());
+             writeNpy("B.prim.npy", "<i8", {n}, p64.data(), 8);
+         },
+         "B.prim.npy"},
+        {"prim missing", [&] { fs::remove(path("B.prim.npy")); }, "B.prim.npy"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.what);
+        c.make();
+        RunResult r = run(certify(kCube, "B"));
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_NE(r.err.find(c.file), std::string::npos) << r.err;
+        EXPECT_EQ(r.out, "");
+    }
+    // Distances only: no prim file needed.
+    RunResult r = run(certify(kCube, "B") + " --no-prim");
+    EXPECT_EQ(r.status, 0) << show(r);
+    EXPECT_NE(r.out.find("distances only"), std::string::npos) << r.out;
+}
+
+TEST_F(CertifyCli, AFaultyAnswerFailsNamingItsRow) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    std::vector<float> t = readArray<float>("H.t.npy");
+    std::vector<int32_t> prim = readArray<int32_t>("H.prim.npy");
+    uint64_t row = 0;
+    while (prim[row] < 0) ++row;
+    t[row] = NAN;
+    prim[row + 1] = 1 << 30;
+    writeNpy("H.t.npy", "<f4", {t.size()}, t.data(), 4);
+    writeNpy("H.prim.npy", "<i4", {prim.size()}, prim.data(), 4);
+    RunResult r = run(certify());
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("certification FAILED: 2 wrong"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find(" " + std::to_string(row) + " "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("invalid_hit"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("t=nan"), std::string::npos) << r.out;
+}
+
+TEST_F(CertifyCli, EditedRaysAndWrongScenesAreRefused) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    // Another scene than the rays were made for.
+    RunResult r = run(certify(kTeapot));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("made for"), std::string::npos) << r.err;
+    // One float of one row changed: the manifest's checksum no longer matches.
+    std::vector<float> rays = readArray<float>("R.npy");
+    rays[8 * 100 + 3] = std::nextafter(rays[8 * 100 + 3], 2.0f);
+    writeNpy("R.npy", "<f4", {rays.size() / 8, 8}, rays.data(), 4);
+    r = run(certify());
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("R.json"), std::string::npos) << r.err;
+    // Without the manifest the rows are one set, "all", judged as a whole: the adversarial rows
+    // then count towards the ambiguous rate (what the manifest is for).
+    fs::remove(work_ / "R.json");
+    r = run(certify() + " --json " + q("C.json"));
+    EXPECT_NE(r.status, 2) << show(r);
+    nlohmann::json j = nlohmann::json::parse(octtest::readFile(work_ / "C.json"));
+    EXPECT_FALSE(j["manifest"].get<bool>());
+    EXPECT_EQ(j["result"]["sets"], nlohmann::json::array({"all"}));
+    EXPECT_EQ(j["wrong"], 0);
+    EXPECT_EQ(j["result"]["leak_checked"], 0);
+}
+
+TEST_F(CertifyCli, OutputsNeverReplaceInputs) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    const std::string before = octtest::readFile(work_ / "R.npy");
+    RunResult r = run(certify() + " --json " + q("R.npy"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_EQ(octtest::readFile(work_ / "R.npy"), before);
+    r = run(certify() + " --json " + q("D.png") + " --diff-image " + q("./D.png"));
+    EXPECT_TRUE(isOneLineError(r));
+    r = run("rays " + quote(kCube) + " --out " + q("X.npy") + " --triangles " + q("X.json"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_FALSE(fs::exists(work_ / "X.npy"));
+    r = run("rays " + quote(kCube) + " --set camera,nope --out " + q("Y.npy"));
+    EXPECT_TRUE(isOneLineError(r));
+    // Zero rays certify nothing: refused rather than a PASS.
+    r = run("rays " + quote(kCube) + " --set around --count 0 --out " + q("Z.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    r = run("certify " + quote(kCube) + " --rays " + q("Z.npy") + " --hits " + q("Z"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("no rays"), std::string::npos) << r.err;
+}
+
+TEST_F(CertifyCli, DiffImageOfTheCameraSet) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    RunResult r = run(certify() + " --diff-image " + q("D.png"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_EQ(octtest::readFile(work_ / "D.png").substr(1, 3), "PNG");
+    r = run("rays " + quote(kCube) + " --set around --count 10 --out " + q("R.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    r = run("trace " + quote(kCube) + " --rays " + q("R.npy") + " --out " + q("H"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    r = run(certify() + " --diff-image " + q("E.png"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("camera"), std::string::npos) << r.err;
+}
+
+TEST_F(CertifyCli, InfoSaysWhetherAMeshIsClosed) {
+    RunResult r = run("info " + quote(kCube));
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_NE(r.out.find("closed       yes (0 boundary edges, 0 non-manifold edges"),
+              std::string::npos)
+        << r.out;
+    r = run("info " + quote(kMeshes + "/sphere_with_hole.stl") + " --json");
+    ASSERT_EQ(r.status, 0) << show(r);
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_FALSE(j["topology"]["closed"].get<bool>());
+    EXPECT_EQ(j["topology"]["boundary_edges"], 9);
+    EXPECT_EQ(j["topology"]["non_manifold_edges"], 0);
+    r = run("info grid:50 --json");
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_TRUE(nlohmann::json::parse(r.out)["topology"].is_null());
+}
+
+TEST_F(CertifyCli, EmbreeFastIsABackendValidateRefuses) {
+    RunResult r = run("list backends --names");
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_NE(r.out.find("embree-fast\n"), std::string::npos) << r.out;
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    r = run("trace " + quote(kCube) + " --rays " + q("R.npy") + " --out " + q("F") +
+            " --backend embree-fast");
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_NE(r.out.find("embree-bvh-fast"), std::string::npos) << r.out;
+    r = run(certify(kCube, "F"));
+    EXPECT_TRUE(r.status == 0 || r.err.find("octrace: error: certification FAILED") == 0)
+        << show(r);
+    r = run("validate " + quote(kCube) + " --backend embree-fast --rays 0 --size 8x8");
+    EXPECT_TRUE(isOneLineError(r));
+}
+
+// The example tracer of docs/CERTIFY.md still writes what certify reads. Needs Debian's
+// /usr/bin/python3 with numpy (python3-numpy); skipped without it.
+TEST_F(CertifyCli, ThePythonMollerTrumboreExampleIsCertifiable) {
+    if (std::system("/usr/bin/python3 -c 'import numpy' >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "no /usr/bin/python3 with numpy (apt-get install python3-numpy)";
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kTeapot));
+    const std::string cmd = "/usr/bin/python3 " +
+                            quote(OCT_SOURCE_DIR "/examples/moller_trumbore.py") + " " +
+                            q("T.npy") + " " + q("R.npy") + " " + q("M") + " >/dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    RunResult r = run(certify(kTeapot, "M") + " --json " + q("M.json"));
+    // A verdict, whichever it is: never a format error.
+    EXPECT_TRUE(r.status == 0 || r.err.find("octrace: error: certification FAILED") == 0)
+        << show(r);
+    nlohmann::json j = nlohmann::json::parse(octtest::readFile(work_ / "M.json"));
+    EXPECT_EQ(j["result"]["compared"], readArray<float>("R.npy").size() / 8);
+}
+
+}  // namespace
+}  // namespace oct
