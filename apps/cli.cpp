@@ -185,6 +185,7 @@ int runCli(int argc, char** argv) {
     registerValidate(app);
     registerBench(app);
     registerList(app);
+    registerExplain(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
