@@ -60,27 +60,27 @@ void checkOutputs(const RenderOptions& o) {
         if (!p->empty()) checkWritable(*p);
 }
 
-// "octree depth <= 7, <= 8 primitives a leaf" for the legends (or what exhaustive tracing is).
-std::string buildDetails(const RenderOptions& o, const LayoutDesc& layout) {
-    if (!layout.usesOctree) return "no octree: every ray tests every primitive";
-    return "octree: max depth " + std::to_string(o.scene.maxDepth) + ", max " +
-           std::to_string(o.scene.maxPrims) + " prims a leaf";
+// The octree's shape for the legends (or what exhaustive tracing is).
+std::string buildDetails(const Octree* tree) {
+    if (!tree) return "no octree: every ray tests every primitive";
+    return "octree: depth " + std::to_string(tree->depth) + ", split above " +
+           std::to_string(tree->params.maxPrims) + " prims";
 }
 
 TeachImages teachImages(const RenderOptions& o, const Scene& scene, const BuiltScene& bs,
                         const FrameParams& frame, const Film& film) {
     TeachImages t;
-    const std::string details = buildDetails(o, *bs.layout);
+
     const std::string name = std::filesystem::path(scene.name).filename().string();
     if (!o.heatmapOut.empty())
         t.heatmap = heatmapImage(film, {parseCostQuantity(o.heatmap, "--heatmap"), o.heatmapMax,
-                                        bs.layout->name, name, details});
+                                        bs.layout->name, name, buildDetails(bs.tree.get())});
     if (!o.overlayOut.empty()) {
         // Exhaustive tracing builds no octree; the overlay shows the one the layouts would use.
         std::shared_ptr<const Octree> tree =
             bs.tree ? bs.tree : buildSharedOctree(scene, o.scene.layoutOptions().build);
-        t.overlay =
-            overlayImage(film, frame, *tree, {o.overlayDepth, bs.layout->name, name, details});
+        t.overlay = overlayImage(film, frame, *tree,
+                                 {o.overlayDepth, bs.layout->name, name, buildDetails(tree.get())});
     }
     return t;
 }

@@ -258,6 +258,7 @@ json linesJson(const Explanation& e, PageStats& stats) {
         for (const ExplainLine& l : explainLines(e, i)) {
             json j;
             j["ray"] = l.rayIndex;
+            j["step"] = l.step;
             j["text"] = l.text;
             j["key"] = l.key ? json(keyOctal(l.key)) : json(nullptr);
             j["prim"] = l.prim;
@@ -328,8 +329,8 @@ label { color: #b4b7c2; margin-right: 10px; }
 <p>@NOTE@</p>
 <p><label><input type="checkbox" id="show-model" checked> model</label>
 <label><input type="checkbox" id="show-missed"> boxes missed, skipped or dropped</label></p>
-<p>Hover a step to highlight its cell or primitive; click to keep it. Drag to orbit, scroll to
-zoom.</p>
+<p>Hover a step to highlight its cell or primitive; click to keep it (the address then names
+it: #step=N, #shadow=N). Drag to orbit, scroll to zoom.</p>
 <pre id="octrace-errors"></pre>
 </div>
 <ol id="steps"></ol>

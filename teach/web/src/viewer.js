@@ -205,9 +205,26 @@ function main() {
         render();
     });
 
-    // The step list: hover shows, click pins.
+    // The step list: hover shows, click pins. A pinned step is named in the address
+    // (#step=N for the primary ray's step N, #shadow=N for the shadow ray's), so a lecturer can
+    // link to it and the page opens with it pinned.
     const list = document.getElementById('steps');
     let pinned = null;
+    const items = [];
+    function pin(i) {
+        const was = list.querySelector('li.pinned');
+        if (was) was.classList.remove('pinned');
+        pinned = pinned === i ? null : i;
+        if (pinned !== null) {
+            items[i].classList.add('pinned');
+            const l = data.lines[i];
+            history.replaceState(null, '', '#' + (l.ray ? 'shadow' : 'step') + '=' + l.step);
+        } else {
+            history.replaceState(null, '', location.pathname + location.search);
+        }
+        show(pinned === null ? null : data.lines[i]);
+        render();
+    }
     data.lines.forEach((line, i) => {
         if (line.heading) {
             const h = document.createElement('li');
@@ -228,16 +245,24 @@ function main() {
             show(pinned === null ? null : data.lines[pinned]);
             render();
         });
-        li.addEventListener('click', () => {
-            const was = list.querySelector('li.pinned');
-            if (was) was.classList.remove('pinned');
-            pinned = pinned === i ? null : i;
-            if (pinned !== null) li.classList.add('pinned');
-            show(pinned === null ? null : line);
-            render();
-        });
+        li.addEventListener('click', () => pin(i));
+        items[i] = li;
         list.appendChild(li);
     });
+    const wanted = /^#(step|shadow)=(\d+)$/.exec(location.hash);
+    if (wanted) {
+        const ray = wanted[1] === 'shadow' ? 1 : 0;
+        const step = Number(wanted[2]);
+        // The line covering that step: the last one starting at or before it.
+        let found = -1;
+        data.lines.forEach((l, i) => {
+            if (!l.heading && l.ray === ray && l.step <= step) found = i;
+        });
+        if (found >= 0) {
+            pin(found);
+            items[found].scrollIntoView({ block: 'center' });
+        }
+    }
 
     document.getElementById('show-missed').addEventListener('change', (ev) => {
         missedGroup.visible = ev.target.checked;
