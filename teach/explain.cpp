@@ -409,6 +409,7 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
         out.push_back({step, rayIndex, key, prim, std::move(text)});
     };
     const std::vector<ExplainStep>& st = r.steps;
+    Hit running = {r.ray.tmax, -1};  // the closest hit so far
     for (size_t i = 0; i < st.size();) {
         const ExplainStep& s = st[i];
         switch (s.event) {
@@ -463,12 +464,17 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
                 if (s.hit) {
                     std::string t =
                         stepNo(i) + "  prim   " + std::to_string(s.prim) + " hit at t " + num(s.t0);
+                    // considerPrimitive's rule: nearer, or as near with a lower id.
+                    const bool better = running.prim < 0 || s.t0 < running.t ||
+                                        (s.t0 == running.t && int32_t(s.prim) < running.prim);
                     if (r.anyHit)
                         t += ": occluded, the search ends";
-                    else if (s.t0 < s.bestT || s.bestT == r.ray.tmax)
+                    else if (better)
                         t += " (closest so far)";
                     else
-                        t += " (not nearer than t " + num(s.bestT) + ")";
+                        t += " (not nearer than t " + num(running.t) + ", primitive " +
+                             std::to_string(running.prim) + ")";
+                    if (better) running = {s.t0, int32_t(s.prim)};
                     add(i + 1, 0, s.prim, t);
                     ++i;
                     break;

@@ -170,7 +170,7 @@ json modelJson(const Scene& scene, PageStats& stats, std::string& note) {
         stats.reduced = stride > 1;
         note = "Spheres shown as points";
         if (stride > 1)
-            note += ", every " + std::to_string(stride) + "th of " + std::to_string(n) + " drawn";
+            note += ", one in " + std::to_string(stride) + " of " + std::to_string(n) + " drawn";
         note += ". The spheres the ray tested are drawn exactly.";
     }
     return j;

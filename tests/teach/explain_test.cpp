@@ -309,6 +309,31 @@ TEST(ExplainOutput, JsonHoldsEveryStepAndTheKernelsCost) {
     }
 }
 
+// The lines say which hit is the closest so far with the kernel's tie rule (considerPrimitive:
+// nearer, or as near with a lower id).
+TEST(ExplainOutput, ClosestSoFarFollowsTheTieRule) {
+    Explanation e;
+    e.primary.ray = {{0, 0, 0}, {0, 0, 1}, 0.0f, INFINITY};
+    StepRecorder r;
+    r.primTested(5, true, 2.0f);
+    r.primTested(3, true, 2.0f);  // as near, lower id: the new closest
+    r.primTested(9, true, 2.0f);  // as near, higher id: not
+    r.primTested(8, true, 3.0f);  // farther
+    r.primTested(7, true, 1.5f);  // nearer
+    r.finish(e.primary.ray);
+    e.primary.steps = r.steps;
+    const std::vector<ExplainLine> lines = explainLines(e, 0);
+    ASSERT_EQ(lines.size(), 5u);
+    EXPECT_NE(lines[0].text.find("5 hit at t 2 (closest so far)"), std::string::npos);
+    EXPECT_NE(lines[1].text.find("3 hit at t 2 (closest so far)"), std::string::npos);
+    EXPECT_NE(lines[2].text.find("9 hit at t 2 (not nearer than t 2, primitive 3)"),
+              std::string::npos)
+        << lines[2].text;
+    EXPECT_NE(lines[3].text.find("(not nearer than t 2, primitive 3)"), std::string::npos);
+    EXPECT_NE(lines[4].text.find("7 hit at t 1.5 (closest so far)"), std::string::npos);
+    for (const ExplainLine& l : lines) EXPECT_GE(l.prim, 0);
+}
+
 TEST(ExplainOutput, KeysAreOctalDigitsAfterTheRoot) {
     EXPECT_EQ(keyOctal(1), "1");
     EXPECT_EQ(keyOctal((1u << 3) | 5), "15");

@@ -121,20 +121,26 @@ function main() {
     }
     scene.add(ball(data.light, rodRadius * 3, 0xffe14d));
 
+    // The primitives the rays tested: hit ones red, the others blue.
     const primGroup = new THREE.Group();
+    const unitSphere = new THREE.SphereGeometry(1, 16, 12);
     for (const p of data.prims) {
-        if (!p.v) continue;
-        const g = new THREE.BufferGeometry();
-        g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(p.v), 3));
-        const mesh = new THREE.Mesh(
-            g,
-            new THREE.MeshBasicMaterial({
-                color: p.hit ? 0xff3b30 : 0x4da3ff,
-                side: THREE.DoubleSide,
-                transparent: true,
-                opacity: p.hit ? 0.95 : 0.6,
-            }),
-        );
+        const material = new THREE.MeshBasicMaterial({
+            color: p.hit ? 0xff3b30 : 0x4da3ff,
+            side: THREE.DoubleSide,
+            transparent: true,
+            opacity: p.hit ? 0.95 : 0.6,
+        });
+        let mesh;
+        if (p.v) {
+            const g = new THREE.BufferGeometry();
+            g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(p.v), 3));
+            mesh = new THREE.Mesh(g, material);
+        } else {
+            mesh = new THREE.Mesh(unitSphere, material);
+            mesh.position.set(...p.c);
+            mesh.scale.setScalar(p.r);
+        }
         primGroup.add(mesh);
     }
     scene.add(primGroup);
@@ -189,7 +195,7 @@ function main() {
                     ),
                 );
             } else if (p && p.c) {
-                highlight.add(ball(p.c, p.r, 0xffe14d));
+                highlight.add(ball(p.c, p.r * 1.05, 0xffe14d));
             }
         }
     }
