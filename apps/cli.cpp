@@ -199,6 +199,7 @@ int runCli(int argc, char** argv) {
     registerList(app);
     registerRays(app);
     registerCertify(app);
+    registerExplain(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

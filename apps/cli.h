@@ -11,6 +11,7 @@
 
 #include "backends/backend.h"
 #include "core/octree/layout_registry.h"
+#include "core/render/frame.h"
 #include "core/scene/scene.h"
 
 namespace oct {
@@ -82,6 +83,17 @@ void parseImageSize(const std::string& text, int& w, int& h);
 // Parses "x,y,z" into a Vec3; throws CLI::ValidationError naming the option on bad input.
 Vec3 parseVec3(const std::string& option, const std::string& text);
 
+// --size, --eye, --target, --up, --fov, --light (apps/camera_options.cpp): the same camera for
+// render and explain, so explain's --pixel names a pixel of render's image.
+struct CameraChoice {
+    std::string size = "512x512";
+    std::string eye, target, up, light;
+    float fov = 45.0f;
+};
+void addCameraOptions(CLI::App& cmd, CameraChoice& o);
+// Parses and checks them (before anything is loaded); throws naming the option.
+CameraOptions cameraOptions(const CameraChoice& o);
+
 // Subcommand registration: each adds itself to the app and sets its callback.
 void registerInfo(CLI::App& app);
 void registerRender(CLI::App& app);
@@ -91,5 +103,6 @@ void registerBench(CLI::App& app);
 void registerList(CLI::App& app);
 void registerRays(CLI::App& app);
 void registerCertify(CLI::App& app);
+void registerExplain(CLI::App& app);
 
 }  // namespace oct

@@ -1,12 +1,15 @@
 // octrace render: one frame of the paper's ray tracer (primary ray, Phong, shadow ray) with a
-// chosen layout and backend; PNG plus optional per-pixel .npy arrays.
+// chosen layout and backend; PNG plus optional per-pixel .npy arrays, a cost heat map and an
+// octree overlay (teach/).
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
-#include <optional>
 
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
+#include "teach/heatmap.h"
+#include "teach/overlay.h"
 #include "validation/film_compare.h"
 
 namespace oct {
@@ -16,35 +19,25 @@ struct RenderOptions {
     SceneOptions scene;
     TraceChoice trace{"linear", "auto"};
     std::string out, depthOut, primOut, costOut;
-    std::string size = "512x512";
-    std::string eye, target, up, light;
-    float fov = 45.0f;
+    CameraChoice camera;
     bool compareEmbree = false;
+    std::string heatmap = "nodes", heatmapOut, overlayOut;
+    uint32_t heatmapMax = 0;
+    int overlayDepth = -1;
 };
 
-std::optional<Vec3> optionalVec3(const char* option, const std::string& text) {
-    if (text.empty()) return std::nullopt;
-    return parseVec3(option, text);
-}
-
-CameraOptions cameraOptions(const RenderOptions& o) {
-    CameraOptions c;
-    parseImageSize(o.size, c.width, c.height);
-    c.eye = optionalVec3("--eye", o.eye);
-    c.target = optionalVec3("--target", o.target);
-    c.up = optionalVec3("--up", o.up);
-    c.light = optionalVec3("--light", o.light);
-    c.fovDegrees = o.fov;
-    // Checked here as well as in makeFrame so the error comes before loading anything.
-    makeFrame({{-1, -1, -1}, {1, 1, 1}}, c);
-    return c;
-}
+// The teaching images (teach/): both optional, staged with the other outputs.
+struct TeachImages {
+    RgbImage heatmap, overlay;
+};
 
 // Every requested file, all or none (OutputSet): a failure leaves existing files untouched.
-void writeOutputs(const RenderOptions& o, const Film& f) {
+void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
     std::vector<uint64_t> shape = {uint64_t(f.height), uint64_t(f.width)};
     OutputSet out;
     out.stage(o.out, encodePng(o.out, f.width, f.height, f.rgb));
+    for (auto [path, img] : {std::pair{&o.heatmapOut, &t.heatmap}, {&o.overlayOut, &t.overlay}})
+        if (!path->empty()) out.stage(*path, encodePng(*path, img->width, img->height, img->rgb));
     if (!o.depthOut.empty()) out.stage(o.depthOut, encodeNpy("<f4", shape, f.t.data(), 4));
     if (!o.primOut.empty()) out.stage(o.primOut, encodeNpy("<i4", shape, f.prim.data(), 4));
     if (!o.costOut.empty()) {
@@ -62,8 +55,47 @@ void writeOutputs(const RenderOptions& o, const Film& f) {
 
 // Before any heavy work: every output folder must take a new file.
 void checkOutputs(const RenderOptions& o) {
-    for (const std::string* p : {&o.out, &o.depthOut, &o.primOut, &o.costOut})
+    for (const std::string* p :
+         {&o.out, &o.depthOut, &o.primOut, &o.costOut, &o.heatmapOut, &o.overlayOut})
         if (!p->empty()) checkWritable(*p);
+}
+
+// The octree's shape for the legends (or what exhaustive tracing is).
+std::string buildDetails(const Octree* tree) {
+    if (!tree) return "no octree: every ray tests every primitive";
+    return "octree: depth " + std::to_string(tree->depth) + ", split above " +
+           std::to_string(tree->params.maxPrims) + " prims";
+}
+
+TeachImages teachImages(const RenderOptions& o, const Scene& scene, const BuiltScene& bs,
+                        const FrameParams& frame, const Film& film) {
+    TeachImages t;
+
+    const std::string name = std::filesystem::path(scene.name).filename().string();
+    if (!o.heatmapOut.empty())
+        t.heatmap = heatmapImage(film, {parseCostQuantity(o.heatmap, "--heatmap"), o.heatmapMax,
+                                        bs.layout->name, name, buildDetails(bs.tree.get())});
+    if (!o.overlayOut.empty()) {
+        // Exhaustive tracing builds no octree; the overlay shows the one the layouts would use.
+        std::shared_ptr<const Octree> tree =
+            bs.tree ? bs.tree : buildSharedOctree(scene, o.scene.layoutOptions().build);
+        t.overlay = overlayImage(film, frame, *tree,
+                                 {o.overlayDepth, bs.layout->name, name, buildDetails(tree.get())});
+    }
+    return t;
+}
+
+// Before any heavy work: the teaching options make sense together and with the backend.
+void checkTeachOptions(const RenderOptions& o, const BackendDesc& backend) {
+    parseCostQuantity(o.heatmap, "--heatmap");
+    if (o.heatmapOut.empty() && (o.heatmap != "nodes" || o.heatmapMax > 0))
+        throw CLI::ValidationError("--heatmap", "needs --heatmap-out FILE.png to write the map to");
+    if (o.overlayOut.empty() && o.overlayDepth >= 0)
+        throw CLI::ValidationError("--overlay-depth", "needs --overlay-out FILE.png");
+    if (!o.heatmapOut.empty() && !backend.usesLayouts)
+        throw CLI::ValidationError("--heatmap-out", std::string("the ") + backend.name +
+                                                        " backend counts no traversal cost; use "
+                                                        "--backend cpu (or cuda)");
 }
 
 // Traces the same frame with Embree and prints the per-pixel agreement (the validation policy
@@ -85,10 +117,11 @@ void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Fi
 }
 
 void runRender(const RenderOptions& o) {
-    CameraOptions cam = cameraOptions(o);
+    CameraOptions cam = cameraOptions(o.camera);
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "render");
     std::string note;
     const BackendDesc& backend = parseOneBackend(o.trace.backend, "render", note);
+    checkTeachOptions(o, backend);
     checkOutputs(o);
     setCpuThreadsFromOption(o.trace.threads);
 
@@ -102,7 +135,7 @@ void runRender(const RenderOptions& o) {
     FrameParams frame = makeFrame(scene.bounds(), cam);
     Film film;
     FrameRun t = renderWith(backend, bs, frame, film);
-    writeOutputs(o, film);
+    writeOutputs(o, film, teachImages(o, scene, bs, frame, film));
 
     std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(), scene.primitiveCount(),
                 tracedStructure(backend, layout), backend.name, frame.width, frame.height);
@@ -126,6 +159,8 @@ void runRender(const RenderOptions& o) {
             nodes / double(film.pixelCount()), tested / double(film.pixelCount()));
     }
     std::printf("wrote   %s\n", o.out.c_str());
+    for (const std::string* p : {&o.heatmapOut, &o.overlayOut})
+        if (!p->empty()) std::printf("wrote   %s\n", p->c_str());
     if (o.compareEmbree) printEmbreeAgreement(frame, scene, film);
 }
 
@@ -143,12 +178,22 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--prim", o->primOut, "Write primitive ids as int32 (H, W) .npy (-1: miss)");
     cmd->add_option("--cost", o->costOut,
                     "Write int32 (H, W, 2) .npy: nodes visited, primitives tested");
-    cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
-    cmd->add_option("--eye", o->eye, "Camera position x,y,z (default: framed from the bounds)");
-    cmd->add_option("--target", o->target, "Point looked at x,y,z (default: the bounds' centre)");
-    cmd->add_option("--up", o->up, "Up vector x,y,z (default 0,1,0)");
-    cmd->add_option("--fov", o->fov, "Vertical field of view, degrees")->capture_default_str();
-    cmd->add_option("--light", o->light, "Point light x,y,z (default: above and right of the eye)");
+    addCameraOptions(*cmd, o->camera);
+    cmd->add_option("--heatmap-out", o->heatmapOut,
+                    "Write the per-pixel traversal cost as a labelled colour map (PNG)");
+    cmd->add_option("--heatmap", o->heatmap,
+                    "Cost the heat map shows: nodes (node boxes tested) or prims (primitives "
+                    "tested), primary + shadow ray")
+        ->capture_default_str();
+    cmd->add_option("--heatmap-max", o->heatmapMax,
+                    "Fix the colour scale's top (default: the image's maximum), so maps of "
+                    "different layouts compare")
+        ->check(CLI::Range(1u, 0xffffffffu));
+    cmd->add_option("--overlay-out", o->overlayOut,
+                    "Write the image with the octree's leaf cells drawn over it (PNG)");
+    cmd->add_option("--overlay-depth", o->overlayDepth,
+                    "Draw the cells of this depth instead of the leaves")
+        ->check(CLI::Range(0, kMaxOctreeDepth));
     cmd->add_flag("--compare-embree", o->compareEmbree,
                   "Also trace the frame with Embree and print how many pixels agree");
     cmd->callback([o] { runRender(*o); });

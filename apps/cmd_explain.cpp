@@ -1,0 +1,128 @@
+// octrace explain: one pixel's (or one ray's) traversal step by step, as text, JSON or an
+// interactive HTML page. The work is teach/explain.h (the kernel with a recording observer) and
+// teach/explain_page.h; this file parses the options and prints.
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "apps/cli.h"
+#include "core/io/output_file.h"
+#include "core/scene/load_scene.h"
+#include "teach/explain.h"
+#include "teach/explain_page.h"
+
+namespace oct {
+namespace {
+
+struct ExplainOptions {
+    SceneOptions scene;
+    std::string accel = "linear";
+    CameraChoice camera;
+    std::string pixel, ray, json, html;
+};
+
+// "X,Y": two integers.
+void parsePixel(const std::string& text, int& x, int& y) {
+    std::istringstream in(text);
+    long long a = 0, b = 0;
+    char comma = 0;
+    if (!(in >> a >> comma >> b) || comma != ',' || !in.eof() || a < INT32_MIN || a > INT32_MAX ||
+        b < INT32_MIN || b > INT32_MAX)
+        throw CLI::ValidationError("--pixel", "'" + text + "' is not two integers X,Y");
+    x = int(a);
+    y = int(b);
+}
+
+// "ox,oy,oz,dx,dy,dz": six finite numbers, the direction not zero.
+void parseRay(const std::string& text, Vec3& origin, Vec3& dir) {
+    std::vector<std::string> parts;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) parts.push_back(item);
+    float v[6];
+    bool ok = parts.size() == 6;
+    for (size_t i = 0; ok && i < 6; ++i) {
+        std::istringstream p(parts[i]);
+        ok = bool(p >> v[i]) && (p >> std::ws).eof() && std::isfinite(v[i]);
+    }
+    if (!ok)
+        throw CLI::ValidationError("--ray",
+                                   "'" + text + "' is not six finite numbers ox,oy,oz,dx,dy,dz");
+    origin = {v[0], v[1], v[2]};
+    dir = {v[3], v[4], v[5]};
+    if (!(length(dir) > 0.0f))
+        throw CLI::ValidationError("--ray", "'" + text + "': the direction dx,dy,dz is zero");
+}
+
+void runExplain(const ExplainOptions& o) {
+    const CameraOptions cam = cameraOptions(o.camera);
+    const LayoutDesc& layout = parseOneLayout(o.accel, "explain");
+    if (!o.pixel.empty() && !o.ray.empty())
+        throw CLI::ValidationError("--ray", "give --pixel or --ray, not both");
+    // Default: the image's centre pixel.
+    int x = cam.width / 2, y = cam.height / 2;
+    Vec3 origin, dir;
+    if (!o.ray.empty())
+        parseRay(o.ray, origin, dir);
+    else if (!o.pixel.empty())
+        parsePixel(o.pixel, x, y);
+    if (o.ray.empty()) checkPixelInImage(x, y, cam.width, cam.height);
+    for (const std::string* p : {&o.json, &o.html})
+        if (!p->empty() && *p != "-") checkWritable(*p);
+    if (o.html == "-") throw CLI::ValidationError("--html", "needs a file name, not stdout");
+
+    Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
+    BuiltScene bs = buildScene(scene, layout, o.scene.layoutOptions());
+    const FrameParams frame = makeFrame(scene.bounds(), cam);
+    const Explanation e =
+        o.ray.empty() ? explainPixel(bs, frame, x, y) : explainRay(bs, frame, origin, dir);
+
+    OutputSet out;  // every file or none
+    PageStats page;
+    if (!o.json.empty() && o.json != "-") {
+        const std::string text = explainJson(e);
+        out.stage(o.json, text.data(), text.size());
+    }
+    if (!o.html.empty()) {
+        const std::string text = explainPage(e, scene, &page);
+        out.stage(o.html, text.data(), text.size());
+    }
+    out.commit();
+    if (o.json == "-") {
+        writeTextOutput("-", explainJson(e));
+        return;  // stdout is the JSON alone
+    }
+    std::fputs(explainText(e).c_str(), stdout);
+    if (!o.json.empty()) std::printf("wrote   %s\n", o.json.c_str());
+    if (!o.html.empty())
+        std::printf("wrote   %s (%.2f MB; model: %llu %s%s, %llu cells, %llu steps)\n",
+                    o.html.c_str(), double(page.bytes) / 1e6,
+                    (unsigned long long)page.modelPrimitives,
+                    scene.kind == PrimKind::Triangles ? "triangles" : "points",
+                    page.reduced ? ", reduced" : "", (unsigned long long)page.cells,
+                    (unsigned long long)page.lines);
+}
+
+}  // namespace
+
+void registerExplain(CLI::App& app) {
+    auto o = std::make_shared<ExplainOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "explain", "One pixel's traversal step by step (text, --json, or an --html page)");
+    addSceneOptions(*cmd, o->scene);
+    cmd->add_option("--accel", o->accel, "Acceleration layout: " + layoutNames())
+        ->capture_default_str();
+    addCameraOptions(*cmd, o->camera);
+    cmd->add_option("--pixel", o->pixel,
+                    "Pixel X,Y of the image render draws with the same camera options (row 0 at "
+                    "the top; default: the centre)");
+    cmd->add_option("--ray", o->ray,
+                    "A ray of your own ox,oy,oz,dx,dy,dz instead of a pixel: closest hit, then "
+                    "its shadow ray");
+    addJsonOption(*cmd, o->json, "every step, the hits and the totals");
+    cmd->add_option("--html", o->html,
+                    "Write an interactive page (one self-contained file): the model, the cells "
+                    "visited, the ray and the steps");
+    cmd->callback([o] { runExplain(*o); });
+}
+
+}  // namespace oct
