@@ -105,7 +105,9 @@ json toJson(const ValidationReport& r) {
         for (const ShadowFinding& f : run.film.worstShadows) ws.push_back(shadowJson(f));
         for (const Finding& f : run.rays.worst) wr.push_back(findingJson(f, false));
         json inside = nullptr, structure = nullptr;
-        if (run.lightInside) inside = toJson(run.lightInside->shadow);
+        if (run.lightInside)
+            inside = {{"primary", toJson(run.lightInside->primary)},
+                      {"shadow", toJson(run.lightInside->shadow)}};
         if (run.structure)
             structure = {
                 {"pass", run.structure->passes()},      {"nodes", run.structure->nodes},
@@ -119,7 +121,7 @@ json toJson(const ValidationReport& r) {
                         {"ambiguous", run.ambiguous()},
                         {"primary", toJson(run.film.primary)},
                         {"shadow", shadow},
-                        {"shadow_light_inside", inside},
+                        {"inside_view", inside},
                         {"structure", structure},
                         {"rays", rays},
                         {"worst_pixels", wp},
@@ -244,7 +246,10 @@ std::string humanSummary(const ValidationReport& r) {
         s += "  check     compared     agree    ties ambiguous   wrong  amb. rate  max|dt|/ext\n";
         s += countsLine("primary", run.film.primary);
         s += countsLine("shadow", run.film.shadow);
-        if (run.lightInside) s += countsLine("shadow-in", run.lightInside->shadow);
+        if (run.lightInside) {
+            s += countsLine("in-prim", run.lightInside->primary);
+            s += countsLine("in-shad", run.lightInside->shadow);
+        }
         std::string reasons = reasonsText(run.film.primary);
         if (!reasons.empty()) s += "  primary ambiguous by reason:" + reasons + "\n";
         reasons = reasonsText(run.film.shadow);

@@ -44,8 +44,14 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     HitClassifier classifier(scene, o.policy);
     rep.extent = classifier.extent();
     FrameParams frame = makeFrame(scene.bounds(), o.camera);
+    // The inside view (validate.h): eye and light at the box's centre, the light 1% of the
+    // extent above the eye so shadow rays do not retrace the primary rays exactly.
     CameraOptions insideCamera = o.camera;
-    insideCamera.light = scene.bounds().center();
+    const Vec3 centre = scene.bounds().center();
+    const float lift = float(0.01 * sceneExtent(scene));
+    insideCamera.eye = centre;
+    insideCamera.target = centre + Vec3{0.0f, 0.0f, 1.0f};
+    insideCamera.light = centre + Vec3{0.0f, lift, 0.0f};
     const FrameParams frameInside = makeFrame(scene.bounds(), insideCamera);
     rep.width = frame.width;
     rep.height = frame.height;

@@ -122,7 +122,7 @@ TEST(FaultGuards, LeafListPastTheArrayIsAFaultNotARead) {
 }
 
 // An any-hit query that ignores the shadow ray's tmax: with the default light outside the scene
-// nothing lies beyond any shadow ray's end, so it passes; lit from inside the box it fails.
+// nothing lies beyond any shadow ray's end, so it passes; seen and lit from inside it fails.
 struct TmaxIgnoringAccel {
     LinearOctreeView v;
 };
