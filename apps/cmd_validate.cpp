@@ -116,12 +116,18 @@ void runValidate(const ValidateCliOptions& o) {
     std::vector<TracerUnderTest> tracers;
     for (const LayoutDesc* l : layoutList) {
         built.push_back(std::make_unique<BuiltScene>(convertLayout(scene, canonical, *l, lo)));
+        // The structural check reads the layout's host arrays through its own view.
+        NodeLookupFn lookup;
+        if (l->usesOctree)
+            built.back()->visit([&lookup](const auto& view) {
+                lookup = [view](uint64_t key) { return lookupNode(view, key); };
+            });
         for (const BackendDesc* b : backendList) {
             std::shared_ptr<SceneTracer> t = b->prepare(*built.back());
             prepared.push_back(t);
             tracers.push_back({l->name, b->name,
                                [t](const FrameParams& p, Film& film) { t->render(p, film); },
-                               [t](RayBatchView batch) { t->trace(batch); }});
+                               [t](RayBatchView batch) { t->trace(batch); }, lookup});
         }
     }
 

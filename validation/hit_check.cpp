@@ -117,10 +117,15 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
         }
     }
     // 2. Every primitive the truth hits clearly before our answer: ours missed it, which only
-    // a touchy configuration excuses.
+    // a touchy configuration excuses. Our own primitive counts too when it is a sphere: a ray
+    // meets a sphere twice, so a hit of ours on its surface beyond the truth's nearer hit on
+    // it is the far root (step 1 confirmed the point is on the surface, not that it is the
+    // first). A ray meets a triangle's plane once, so there our point and the truth's are the
+    // same crossing, judged in step 1.
+    const bool ownSecondCrossing = oursHit && scene_->kind == PrimKind::Spheres;
     for (const auto& h : hits) {
         if (!(h.first < tOurs - tTol)) break;
-        if (oursHit && h.second == q) continue;  // our own primitive, judged above
+        if (oursHit && h.second == q && !ownSecondCrossing) continue;  // judged in step 1
         uint32_t r = truth_.touchiness(h.second, dr);
         if (r == 0) {
             clean = true;

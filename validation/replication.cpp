@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
+#include "core/octree/morton.h"
 #include "validation/exact_overlap.h"
 
 namespace oct {
@@ -16,6 +18,7 @@ constexpr size_t kKeepEntries = 1024;  // per thread, before the final sort and 
 
 struct Accumulator {
     uint64_t exactOverlaps = 0, falseNegatives = 0, falsePositives = 0, exactTests = 0;
+    uint64_t wideFalsePositives = 0;
     std::array<uint64_t, 5> gaps{};
     double maxGap = 0.0;
     ReferenceAgreement dp, bvd;
@@ -92,6 +95,32 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
         broken[k] = 1;
         ++rep.rangeErrors;
         if (rep.structuralErrors.size() < kKeepMessages) rep.structuralErrors.push_back(why);
+    }
+
+    // Tiling: every stored box, key and depth is the subdivision's (the builder's childBox).
+    auto tilingError = [&](uint32_t k, const std::string& why) {
+        ++rep.tilingErrors;
+        if (rep.structuralErrors.size() < kKeepMessages)
+            rep.structuralErrors.push_back("node " + std::to_string(k) + " (key " +
+                                           std::to_string(tree.nodes[k].key) + ", depth " +
+                                           std::to_string(tree.nodes[k].depth) + "): " + why);
+    };
+    auto sameBox = [](const Aabb& a, const Aabb& b) {
+        return std::memcmp(&a, &b, sizeof(Aabb)) == 0;
+    };
+    if (!sameBox(tree.nodes[0].box, tree.root) || tree.nodes[0].key != kRootKey)
+        tilingError(0, "the root is not the tree's root cube with key 1");
+    for (uint32_t k = 0; k < tree.nodes.size(); ++k) {
+        const OctreeNode& nd = tree.nodes[k];
+        if (nd.nodeType() != NodeType::Internal || broken[k]) continue;
+        for (int i = 0; i < 8; ++i) {
+            const uint32_t c = tree.firstChild[k] + uint32_t(i);
+            const OctreeNode& ch = tree.nodes[c];
+            if (!sameBox(ch.box, childBox(nd.box, i)))
+                tilingError(c, "its box is not octant " + std::to_string(i) + " of its parent's");
+            else if (ch.key != childKey(nd.key, i) || ch.depth != nd.depth + 1)
+                tilingError(c, "its key or depth is not its parent's child " + std::to_string(i));
+        }
     }
 
     // Inverse index of the leaf lists (CSR): leaves listing each primitive, ascending node.
@@ -205,6 +234,8 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
                     ++a.falsePositives;
                     double g = gapOf(p, tree.nodes[t.node].box);
                     ++a.gaps[gapBucket(g)];
+                    // Written as !(<=) so that a NaN gap fails too.
+                    a.wideFalsePositives += !(g <= kMaxFalsePositiveGap);
                     a.maxGap = std::max(a.maxGap, g);
                     a.fp.push_back(entry(p, t.node, g));
                     if (a.fp.size() > 2 * kKeepEntries) {
@@ -227,6 +258,7 @@ ReplicationReport checkReplication(const Scene& scene, const Octree& tree) {
         rep.exactOverlaps += a.exactOverlaps;
         rep.falseNegatives += a.falseNegatives;
         rep.falsePositives += a.falsePositives;
+        rep.wideFalsePositives += a.wideFalsePositives;
         rep.exactTests += a.exactTests;
         for (int b = 0; b < 5; ++b) rep.falsePositiveGaps[b] += a.gaps[b];
         rep.maxFalsePositiveGap = std::max(rep.maxFalsePositiveGap, a.maxGap);

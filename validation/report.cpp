@@ -63,6 +63,9 @@ json toJson(const ReplicationReport& r) {
             {"duplicate_entries", r.duplicateEntries},
             {"unlisted_primitives", r.unlistedPrimitives},
             {"range_errors", r.rangeErrors},
+            {"tiling_errors", r.tilingErrors},
+            {"wide_false_positives", r.wideFalsePositives},
+            {"max_allowed_false_positive_gap", kMaxFalsePositiveGap},
             {"structural_errors", r.structuralErrors},
             {"distribution", dist},
             {"max_replication", r.maxReplication},
@@ -101,6 +104,16 @@ json toJson(const ValidationReport& r) {
         for (const Finding& f : run.film.worstPixels) wp.push_back(findingJson(f, true));
         for (const ShadowFinding& f : run.film.worstShadows) ws.push_back(shadowJson(f));
         for (const Finding& f : run.rays.worst) wr.push_back(findingJson(f, false));
+        json inside = nullptr, structure = nullptr;
+        if (run.lightInside)
+            inside = {{"primary", toJson(run.lightInside->primary)},
+                      {"shadow", toJson(run.lightInside->shadow)}};
+        if (run.structure)
+            structure = {
+                {"pass", run.structure->passes()},      {"nodes", run.structure->nodes},
+                {"missing", run.structure->missing},    {"wrong_type", run.structure->wrongType},
+                {"wrong_box", run.structure->wrongBox}, {"wrong_list", run.structure->wrongList},
+                {"broken", run.structure->broken},      {"errors", run.structure->errors}};
         runs.push_back({{"layout", run.layout},
                         {"backend", run.backend},
                         {"pass", run.passes(r.policy.maxAmbiguousRate)},
@@ -108,6 +121,8 @@ json toJson(const ValidationReport& r) {
                         {"ambiguous", run.ambiguous()},
                         {"primary", toJson(run.film.primary)},
                         {"shadow", shadow},
+                        {"inside_view", inside},
+                        {"structure", structure},
                         {"rays", rays},
                         {"worst_pixels", wp},
                         {"worst_shadow_rays", ws},
@@ -186,8 +201,14 @@ std::string humanSummary(const ReplicationReport& r) {
                 "no leaf\n",
                 (unsigned long long)r.indexOutOfRange, (unsigned long long)r.duplicateEntries,
                 (unsigned long long)r.unlistedPrimitives);
-    if (r.rangeErrors) {
-        s += fmt("  broken node ranges: %llu\n", (unsigned long long)r.rangeErrors);
+    if (r.wideFalsePositives)
+        s +=
+            fmt("  false positives wider than %.3g of the leaf's edge (not rounding: the "
+                "builder's test is wrong): %llu\n",
+                kMaxFalsePositiveGap, (unsigned long long)r.wideFalsePositives);
+    if (r.rangeErrors || r.tilingErrors) {
+        s += fmt("  broken node ranges: %llu; boxes, keys or depths not the subdivision's: %llu\n",
+                 (unsigned long long)r.rangeErrors, (unsigned long long)r.tilingErrors);
         for (const std::string& e : r.structuralErrors) s += "    " + e + "\n";
     }
     s += "  replication count: primitives";
@@ -225,6 +246,10 @@ std::string humanSummary(const ValidationReport& r) {
         s += "  check     compared     agree    ties ambiguous   wrong  amb. rate  max|dt|/ext\n";
         s += countsLine("primary", run.film.primary);
         s += countsLine("shadow", run.film.shadow);
+        if (run.lightInside) {
+            s += countsLine("in-prim", run.lightInside->primary);
+            s += countsLine("in-shad", run.lightInside->shadow);
+        }
         std::string reasons = reasonsText(run.film.primary);
         if (!reasons.empty()) s += "  primary ambiguous by reason:" + reasons + "\n";
         reasons = reasonsText(run.film.shadow);
@@ -260,6 +285,18 @@ std::string humanSummary(const ValidationReport& r) {
                      shadowState(f.reference),
                      f.referenceOnOurRay < 0 ? "-" : (f.referenceOnOurRay ? "occluded" : "lit"),
                      f.truthOccluded < 0 ? "-" : (f.truthOccluded ? "occluded" : "lit"));
+        }
+        if (run.structure) {
+            const StructureReport& st = *run.structure;
+            s +=
+                fmt("  structure %s: %llu canonical nodes looked up through the layout; %llu "
+                    "missing, %llu of another kind, %llu with another box, %llu with another "
+                    "list, %llu lookups out of its arrays\n",
+                    st.passes() ? "PASS" : "FAIL", (unsigned long long)st.nodes,
+                    (unsigned long long)st.missing, (unsigned long long)st.wrongType,
+                    (unsigned long long)st.wrongBox, (unsigned long long)st.wrongList,
+                    (unsigned long long)st.broken);
+            for (const std::string& e : st.errors) s += "    " + e + "\n";
         }
         s += "  rays (the per-ray check of octrace certify)\n";
         s += humanRaySets(run.rays, r.policy.maxAmbiguousRate);

@@ -44,6 +44,15 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     HitClassifier classifier(scene, o.policy);
     rep.extent = classifier.extent();
     FrameParams frame = makeFrame(scene.bounds(), o.camera);
+    // The inside view (validate.h): eye and light at the box's centre, the light 1% of the
+    // extent above the eye so shadow rays do not retrace the primary rays exactly.
+    CameraOptions insideCamera = o.camera;
+    const Vec3 centre = scene.bounds().center();
+    const float lift = float(0.01 * sceneExtent(scene));
+    insideCamera.eye = centre;
+    insideCamera.target = centre + Vec3{0.0f, 0.0f, 1.0f};
+    insideCamera.light = centre + Vec3{0.0f, lift, 0.0f};
+    const FrameParams frameInside = makeFrame(scene.bounds(), insideCamera);
     rep.width = frame.width;
     rep.height = frame.height;
     const RaySet rays = makeValidationRays(scene, o.rays, o.seed);
@@ -56,6 +65,8 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     EmbreeSceneTracer embree(bare);
     Film refFilm;
     embree.render(frame, refFilm);
+    Film refInside;
+    if (o.lightInside) embree.render(frameInside, refInside);
     HitArrays ref;
     ref.t.resize(rays.count());
     ref.prim.resize(rays.count());
@@ -84,6 +95,12 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
         run.traceSeconds = since(t0);
         t0 = std::chrono::steady_clock::now();
         run.film = validateFilm(classifier, frame, film, refFilm, occluded);
+        if (o.lightInside) {
+            Film inside;
+            t.render(frameInside, inside);
+            run.lightInside = validateFilm(classifier, frameInside, inside, refInside, occluded);
+        }
+        if (t.lookup && canonical) run.structure = checkLayoutStructure(*canonical, t.lookup);
         run.rays = certifyRays(classifier, rays, ours, ref);
         run.checkSeconds = since(t0);
         rep.runs.push_back(std::move(run));

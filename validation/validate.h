@@ -17,6 +17,7 @@
 #include "core/render/kernel.h"
 #include "validation/certify.h"
 #include "validation/hit_validation.h"
+#include "validation/layout_structure.h"
 #include "validation/replication.h"
 
 namespace oct {
@@ -26,6 +27,9 @@ struct TracerUnderTest {
     std::string backend;
     std::function<void(const FrameParams&, Film&)> render;  // fills (and sizes) the Film
     std::function<void(RayBatchView)> trace;                // closest hits of a ray batch
+    // The layout's nodes by Morton key, as its traversal finds them (layout_structure.h);
+    // empty for a layout without an octree (exhaustive): no structural check.
+    NodeLookupFn lookup;
 };
 
 struct ValidateOptions {
@@ -34,6 +38,11 @@ struct ValidateOptions {
     uint64_t rays = 30000;  // seeded rays (ray_sets.h); 0 for none
     uint64_t seed = 1;
     bool replication = true;  // needs the canonical octree
+    // A second frame seen and lit from the centre of the scene's box (docs/VALIDATION.md, "The
+    // inside view"): every visible surface faces the light, and shadow rays have the geometry
+    // behind the eye beyond their end (the default light lies outside the scene, so an any-hit
+    // query ignoring tmax passes unnoticed there).
+    bool lightInside = true;
 
     static CameraOptions defaultValidateCamera() {
         CameraOptions c;
@@ -45,15 +54,23 @@ struct ValidateOptions {
 struct RunReport {
     std::string layout, backend;
     FilmValidation film;
+    std::optional<FilmValidation> lightInside;  // the inside view
+    std::optional<StructureReport> structure;   // null without a lookup (no octree)
     RayCertification rays;
     double renderSeconds = 0.0, traceSeconds = 0.0, checkSeconds = 0.0;
 
     bool passes(double maxAmbiguousRate) const {
-        return film.passes(maxAmbiguousRate) && rays.passes(maxAmbiguousRate);
+        return film.passes(maxAmbiguousRate) && rays.passes(maxAmbiguousRate) &&
+               (!lightInside || lightInside->passes(maxAmbiguousRate)) &&
+               (!structure || structure->passes());
     }
-    uint64_t wrong() const { return film.primary.wrong + film.shadow.wrong + rays.all.wrong; }
+    uint64_t wrong() const {
+        return film.primary.wrong + film.shadow.wrong + rays.all.wrong +
+               (lightInside ? lightInside->primary.wrong + lightInside->shadow.wrong : 0);
+    }
     uint64_t ambiguous() const {
-        return film.primary.ambiguous + film.shadow.ambiguous + rays.all.ambiguous;
+        return film.primary.ambiguous + film.shadow.ambiguous + rays.all.ambiguous +
+               (lightInside ? lightInside->primary.ambiguous + lightInside->shadow.ambiguous : 0);
     }
 };
 

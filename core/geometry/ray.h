@@ -30,4 +30,12 @@ struct TraceCost {
 
 OCT_HD inline Hit missHit() { return {INFINITY, -1}; }
 
+// The answer of a traversal that found its structure inconsistent (a child whose key is not its
+// parent's child key, a record or list entry outside its array, a stack that would overflow):
+// never a plausible hit, so a faulty kernel or a corrupted layout makes validation and
+// certification FAIL (a primitive id below -1 is malformed: invalid_hit, docs/VALIDATION.md)
+// instead of reading out of bounds or looping. A correct structure never produces it.
+constexpr int32_t kTraversalFault = -2;
+OCT_HD inline Hit faultHit() { return {INFINITY, kTraversalFault}; }
+
 }  // namespace oct

@@ -219,6 +219,7 @@ CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, Primit
     CompactOctreeView v;
     v.nodes = c.nodes.data();
     v.primIndices = tree.primIndices.data();
+    v.primIndexCount = tree.primIndices.size();
     v.prims = prims;
     v.rootBox = c.rootBox;
     v.rootIsLeaf = c.rootIsLeaf;

@@ -80,6 +80,7 @@ OCT_HD inline Aabb dequantize(const QuantBounds& qb, const Aabb& cell) {
 struct CompactOctreeView {
     const CompactNode* nodes;     // 8 bytes; root at 0
     const uint32_t* primIndices;  // 8 bytes: the global leaf index array
+    uint64_t primIndexCount;      // 8 bytes: its entries (bounds checks in traversal)
     PrimitivesView prims;         // 24 bytes
     Aabb rootBox;                 // 24 bytes: the canonical root cube
     uint32_t rootIsLeaf;          // 4 bytes: 1 when the whole tree is one leaf
@@ -174,6 +175,13 @@ OCT_HD inline int highestBit(uint32_t m) {
 
 }  // namespace compact_detail
 
+// The record of internal node n's child in `octant` (a bit of n's childMask): its non-empty
+// children are stored contiguously in octant order from firstChild, so it is firstChild plus
+// the stored octants below it.
+OCT_HD inline uint32_t compactChildIndex(const CompactNode& n, int octant) {
+    return n.firstChild() + compact_detail::bitCount8(n.childMask() & ((1u << octant) - 1u));
+}
+
 template <bool kAnyHit, class Obs>
 OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, TraceCost& cost,
                                   Obs& obs) {
@@ -223,7 +231,11 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         if (e.leaf) {
             const uint32_t offset = n.primOffset(), count = n.primCount();
             for (uint32_t k = 0; k < count; ++k) {
-                const uint32_t prim = loadReadOnly(v.primIndices + offset + k);
+                // Bounds: a corrupted record must fail the check, never read past the arrays.
+                const uint64_t at = uint64_t(offset) + k;
+                if (at >= v.primIndexCount) return faultHit();
+                const uint32_t prim = loadReadOnly(v.primIndices + at);
+                if (prim >= v.prims.count) return faultHit();
                 considerPrimitive(v.prims, prim, q, best, cost, obs);
                 if (kAnyHit && best.prim >= 0) return best;
             }
@@ -279,7 +291,10 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         // crosses from the half it starts in to the other, never back, so a child whose octant
         // differs from another's in bits the ray flips later cannot be entered earlier. Bit j
         // of `order` is octant j ^ dirMask; its set bits from the highest down are the pushes,
-        // no sort. A child's record is firstChild + the stored octants below it.
+        // no sort. A child's record is firstChild + the stored octants below it; records are
+        // breadth first, so a child lies after its parent and inside the array (else the
+        // structure is broken: fail, and never cycle), and the stack cannot outgrow the depth.
+        if (top + int(compact_detail::bitCount8(hitMask)) > kTraversalStackSize) return faultHit();
         for (uint32_t order = compact_detail::xorPermute(hitMask, dirMask); order;) {
             const int j = compact_detail::highestBit(order);
             order ^= 1u << j;
@@ -287,7 +302,8 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             Entry& c = stack[top++];
             c.box = childBox(e.box, i);
             c.tEnter = enter[i];
-            c.index = n.firstChild() + compact_detail::bitCount8(mask & ((1u << i) - 1u));
+            c.index = compactChildIndex(n, i);
+            if (c.index <= e.index || c.index >= v.nodeCount) return faultHit();
             c.leaf = (leafMask >> i) & 1u;
             c.setKey(childKey(e.key(), i), e.depth() + 1);
         }
@@ -301,7 +317,7 @@ OCT_HD inline Hit closestHit(const CompactOctreeView& v, const Ray& r, TraceCost
 }
 template <class Obs>
 OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost, Obs& obs) {
-    return traverseCompact<true>(v, r, cost, obs).prim >= 0;
+    return traverseCompact<true>(v, r, cost, obs).prim != -1;  // a fault is no light
 }
 OCT_HD inline Hit closestHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost) {
     NoObserver none;
@@ -309,7 +325,45 @@ OCT_HD inline Hit closestHit(const CompactOctreeView& v, const Ray& r, TraceCost
 }
 OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& cost) {
     NoObserver none;
-    return traverseCompact<true>(v, r, cost, none).prim >= 0;
+    return traverseCompact<true>(v, r, cost, none).prim != -1;
+}
+
+// The node with Morton key `key` as traversal finds it: from record 0 and the root box, one
+// step per octant digit through childMask, leafMask and compactChildIndex, the box halved by
+// childBox (node_lookup.h). Empty leaves are not stored: found = false. Host only.
+inline NodeLookup lookupNode(const CompactOctreeView& v, uint64_t key) {
+    NodeLookup out;
+    if (v.nodeCount == 0) return out;
+    uint32_t index = 0;
+    bool leaf = v.rootIsLeaf != 0;
+    Aabb box = v.rootBox;
+    for (int d = keyDepth(key) - 1; d >= 0; --d) {
+        if (leaf) return out;
+        const CompactNode n = v.nodes[index];
+        const int octant = int((key >> (3 * d)) & 7u);
+        if (!((n.childMask() >> octant) & 1u)) return out;
+        const uint32_t next = compactChildIndex(n, octant);
+        if (next <= index || next >= v.nodeCount) {
+            out.broken = true;
+            return out;
+        }
+        index = next;
+        leaf = (n.leafMask() >> octant) & 1u;
+        box = childBox(box, octant);
+    }
+    out.found = true;
+    out.box = box;
+    out.type = leaf ? NodeType::Leaf : NodeType::Internal;
+    if (leaf) {
+        const CompactNode n = v.nodes[index];
+        if (uint64_t(n.primOffset()) + n.primCount() > v.primIndexCount) {
+            out.broken = true;
+            return out;
+        }
+        out.list = v.primIndices + n.primOffset();
+        out.count = n.primCount();
+    }
+    return out;
 }
 
 // --- host ------------------------------------------------------------------------------------
@@ -344,6 +398,7 @@ struct CompactLayout {
         View v;
         v.nodes = a.array<CompactNode>(0);
         v.primIndices = a.array<uint32_t>(1);
+        v.primIndexCount = a.count<uint32_t>(1);
         v.prims = prims;
         float box[6];
         std::memcpy(box, a.scalars, sizeof box);

@@ -6,6 +6,7 @@
 
 #include "core/geometry/primitives_view.h"
 #include "core/octree/layout.h"
+#include "core/octree/node_lookup.h"
 #include "core/octree/traversal_observer.h"
 
 namespace oct {
@@ -46,6 +47,9 @@ OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost
 }
 
 inline ExhaustiveView exhaustiveView(PrimitivesView prims) { return {prims}; }
+
+// No tree: nothing to look up (the structural check skips layouts without an octree).
+inline NodeLookup lookupNode(const ExhaustiveView&, uint64_t) { return {}; }
 
 struct ExhaustiveLayout {
     static constexpr const char* kName = "exhaustive";

@@ -90,7 +90,8 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
 }
 
 HashOctreeView hashView(const HashOctree& hash, const Octree& tree, PrimitivesView prims) {
-    return {hash.slots.data(), hash.bucketCount, hash.bucketSlots, tree.primIndices.data(), prims};
+    return {hash.slots.data(),       hash.bucketCount,        hash.bucketSlots,
+            tree.primIndices.data(), tree.primIndices.size(), prims};
 }
 
 LayoutStorage HashLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,

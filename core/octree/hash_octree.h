@@ -21,6 +21,7 @@ struct HashOctreeView {
     uint64_t bucketCount;                       // 8 bytes: m
     uint32_t bucketSlots;                       // 4 bytes: B (+4 padding)
     const uint32_t* primIndices;                // 8 bytes: the global leaf index array
+    uint64_t primIndexCount;                    // 8 bytes: its entries (bounds, traversal.h)
     PrimitivesView prims;                       // 24 bytes
 
     template <class Obs>
@@ -82,8 +83,8 @@ struct HashLayout {
                                  const LayoutOptions& o);
     static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
     static View view(const LayoutArrays& a, PrimitivesView prims) {
-        return {a.array<OctreeNode>(0), a.scalars[0], uint32_t(a.scalars[1]), a.array<uint32_t>(1),
-                prims};
+        return {a.array<OctreeNode>(0), a.scalars[0],         uint32_t(a.scalars[1]),
+                a.array<uint32_t>(1),   a.count<uint32_t>(1), prims};
     }
 };
 

@@ -67,7 +67,8 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
 }
 
 LinearOctreeView linearView(const LinearOctree& lin, const Octree& tree, PrimitivesView prims) {
-    return {lin.nodes.data(), lin.nodes.size(), tree.primIndices.data(), prims};
+    return {lin.nodes.data(), lin.nodes.size(), tree.primIndices.data(), tree.primIndices.size(),
+            prims};
 }
 
 LayoutStorage LinearLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,

@@ -17,6 +17,7 @@ struct LinearOctreeView {
     const OctreeNode* nodes;                    // 8 bytes
     uint64_t nodeCount;                         // 8 bytes
     const uint32_t* primIndices;                // 8 bytes: the global leaf index array
+    uint64_t primIndexCount;                    // 8 bytes: its entries (bounds, traversal.h)
     PrimitivesView prims;                       // 24 bytes
 
     OCT_HD const OctreeNode* root() const {
@@ -28,11 +29,15 @@ struct LinearOctreeView {
         return nodes;
     }
     // The child of the internal node stored at `at` (its Morton key is not needed here).
-    // Children of an internal node always exist in the complete array (it has depth+1 levels).
+    // Children of an internal node always exist in the complete array (it has depth+1 levels);
+    // a position past the array (a corrupted tree) is absent rather than read.
     template <class Obs>
     OCT_HD const OctreeNode* child(const OctreeNode* at, uint64_t /*key*/, int octant, Obs&) const {
-        uint64_t p = static_cast<uint64_t>(at - nodes);
-        return nodes + (8 * p + 1 + octant);
+        const uint64_t p = static_cast<uint64_t>(at - nodes), c = 8 * p + 1 + uint64_t(octant);
+        // After the parent and inside the array, or absent: the walk can neither cycle nor
+        // read past the array, whatever the index arithmetic above computes (traversal.h).
+        // (p < c < nodeCount as one unsigned compare: it runs for every child tested.)
+        return c - p - 1 < nodeCount - p - 1 ? nodes + c : nullptr;
     }
 };
 static_assert(std::is_trivially_copyable<LinearOctreeView>::value, "views are passed by value");
@@ -64,7 +69,8 @@ struct LinearLayout {
     // Computed from the depth alone: the complete array is not allocated.
     static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
     static View view(const LayoutArrays& a, PrimitivesView prims) {
-        return {a.array<OctreeNode>(0), a.count<OctreeNode>(0), a.array<uint32_t>(1), prims};
+        return {a.array<OctreeNode>(0), a.count<OctreeNode>(0), a.array<uint32_t>(1),
+                a.count<uint32_t>(1), prims};
     }
 };
 

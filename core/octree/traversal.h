@@ -16,6 +16,7 @@
 #include "core/geometry/ray.h"
 #include "core/octree/morton.h"
 #include "core/octree/node.h"
+#include "core/octree/node_lookup.h"
 #include "core/octree/octree_limits.h"
 #include "core/octree/traversal_observer.h"
 
@@ -44,7 +45,13 @@ OCT_HD inline void sortFarToNear(StackEntry* e, int n) {
 // refuses depths beyond kMaxOctreeDepth, which bounds the stack (7 per level + 8).
 // kAnyHit: stop at the first primitive hit in [tmin, tmax] (shadow rays).
 // OctView needs: root(obs) -> const OctreeNode* (null: no tree), child(node, key, octant, obs)
-// -> const OctreeNode* (null: absent), and the members primIndices and prims. `obs` sees every
+// -> const OctreeNode* (null: absent), and the members primIndices, primIndexCount and prims.
+// child() must never hand back a node the walk has passed (linear: an index after the parent's
+// and inside the array; hash: the node whose key is the child key, and keys only grow), so the
+// walk cannot cycle and its work is bounded by the tree; a wrong but in-order node (a faulty
+// index) is a wrong answer that validation's hit and structure checks report. Not checking
+// each child's key here keeps the paper's linear walk at its cost (it was +11% instructions).
+// An inconsistent structure returns faultHit() (core/geometry/ray.h). `obs` sees every
 // step (traversal_observer.h); the kernels pass NoObserver.
 template <bool kAnyHit, class OctView, class Obs>
 OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost, Obs& obs) {
@@ -61,6 +68,7 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         return missHit();
     }
     const OctreeNode& rn = loadReadOnly(root);
+    if (rn.key != kRootKey) return faultHit();
     const bool rootHit = intersectBox(q.slabs, rn.box, r.tmin, r.tmax, t0, t1);
     obs.boxTested(kRootKey, 0, rn.box, rootHit, t0, t1);
     if (!rootHit) return missHit();
@@ -77,7 +85,11 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         NodeType type = n.nodeType();
         if (type == NodeType::Leaf) {
             for (uint32_t k = 0; k < n.primCount; ++k) {
-                const uint32_t prim = loadReadOnly(v.primIndices + n.primOffset + k);
+                // Bounds: a corrupted list must fail the check, never read past the arrays.
+                const uint64_t at = uint64_t(n.primOffset) + k;
+                if (at >= v.primIndexCount) return faultHit();
+                const uint32_t prim = loadReadOnly(v.primIndices + at);
+                if (prim >= v.prims.count) return faultHit();
                 considerPrimitive(v.prims, prim, q, best, cost, obs);
                 if (kAnyHit && best.prim >= 0) return best;
             }
@@ -107,9 +119,37 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
             if (hit) kids[count++] = {c, t0};
         }
         sortFarToNear(kids, count);
+        if (top + count > kTraversalStackSize) return faultHit();  // deeper than the builder allows
         for (int i = 0; i < count; ++i) stack[top++] = kids[i];
     }
     return finishHit(best);
+}
+
+// The node with Morton key `key`, found as traversal finds it: from root(), one child() step per
+// octant digit of the key (the structural check of validation, node_lookup.h). Host only.
+template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
+inline NodeLookup lookupNode(const View& v, uint64_t key) {
+    NoObserver none;
+    NodeLookup out;
+    const OctreeNode* at = v.root(none);
+    const int depth = keyDepth(key);
+    for (int d = depth - 1; at != nullptr && d >= 0; --d) {
+        if (at->nodeType() != NodeType::Internal) return out;
+        at = v.child(at, at->key, int((key >> (3 * d)) & 7u), none);
+    }
+    if (at == nullptr || at->key != key) return out;
+    out.found = true;
+    out.type = at->nodeType();
+    out.box = at->box;
+    if (out.type == NodeType::Leaf || out.type == NodeType::EmptyLeaf) {
+        if (uint64_t(at->primOffset) + at->primCount > v.primIndexCount) {
+            out.broken = true;
+            return out;
+        }
+        out.list = v.primIndices + at->primOffset;
+        out.count = at->primCount;
+    }
+    return out;
 }
 
 // The closest-hit and any-hit queries of every View that declares
@@ -121,7 +161,7 @@ OCT_HD inline Hit closestHit(const View& v, const Ray& r, TraceCost& cost, Obs& 
 }
 template <class View, class Obs, std::enable_if_t<View::kNodeRecords, int> = 0>
 OCT_HD inline bool anyHit(const View& v, const Ray& r, TraceCost& cost, Obs& obs) {
-    return traverseOctree<true>(v, r, cost, obs).prim >= 0;
+    return traverseOctree<true>(v, r, cost, obs).prim != -1;  // a fault is no light
 }
 template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
 OCT_HD inline Hit closestHit(const View& v, const Ray& r, TraceCost& cost) {
@@ -131,7 +171,7 @@ OCT_HD inline Hit closestHit(const View& v, const Ray& r, TraceCost& cost) {
 template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
 OCT_HD inline bool anyHit(const View& v, const Ray& r, TraceCost& cost) {
     NoObserver none;
-    return traverseOctree<true>(v, r, cost, none).prim >= 0;
+    return traverseOctree<true>(v, r, cost, none).prim != -1;
 }
 
 }  // namespace oct

@@ -43,10 +43,15 @@ inline CpuTracers cpuTracers(const oct::Scene& scene, const std::vector<std::str
             std::make_unique<oct::BuiltScene>(oct::buildScene(scene, *l, oct::LayoutOptions{})));
         const oct::BuiltScene* bs = t.built.back().get();
         if (bs->tree) t.canonical = bs->tree.get();
+        oct::NodeLookupFn lookup;  // the structural check, for layouts with an octree
+        if (l->usesOctree)
+            bs->visit([&lookup](const auto& view) {
+                lookup = [view](uint64_t key) { return oct::lookupNode(view, key); };
+            });
         t.tracers.push_back(
             {l->name, "cpu",
              [bs](const oct::FrameParams& p, oct::Film& f) { oct::renderCpu(p, *bs, f); },
-             [bs](oct::RayBatchView b) { oct::traceCpu(*bs, b); }});
+             [bs](oct::RayBatchView b) { oct::traceCpu(*bs, b); }, lookup});
     }
     return t;
 }

@@ -236,5 +236,24 @@ TEST(HitCheckSpheres, TangentRayIsAmbiguousCentralMissIsWrong) {
     EXPECT_EQ(c.closest(central, {2.0f, 0}, {2.0f, 0}).cls, HitClass::Agree);
 }
 
+// A tracer returning the far root (t = 4, the back of the sphere) instead of the near one
+// (t = 2): its point is on the sphere's surface, so step 1 alone cannot tell, but the truth's
+// nearer hit on the same sphere is one we missed, nothing touchy about it: wrong, missed_hit.
+TEST(HitCheckSpheres, FarRootIsWrongNotAmbiguous) {
+    Scene s;
+    s.name = "sphere";
+    s.kind = PrimKind::Spheres;
+    s.spheres = {{{0, 0, 0}, 1}, {{5, 5, 5}, 0.1f}};
+    HitClassifier c(s, ValidationPolicy{});
+    Ray central = {{0, 0, -3}, {0, 0, 1}, 0, INFINITY};
+    Verdict v = c.closest(central, {4.0f, 0}, {2.0f, 0});
+    EXPECT_EQ(v.cls, HitClass::Wrong) << reasonNames(v.reasons);
+    EXPECT_TRUE(v.reasons & kMissedHit) << reasonNames(v.reasons);
+    // From inside the sphere the far side is the right answer (the only crossing ahead).
+    Ray inside = {{0, 0, 0.5f}, {0, 0, 1}, 0, INFINITY};
+    EXPECT_EQ(c.closest(inside, {0.5f, 0}, {0.5f, 0}).cls, HitClass::Agree);
+    EXPECT_EQ(c.recheckClosest(inside, {0.5f, 0}).cls, HitClass::Ambiguous);
+}
+
 }  // namespace
 }  // namespace oct

@@ -128,7 +128,12 @@ TEST(Replication, ExtraEntryIsACountedFalsePositiveWithItsGap) {
     n.primCount = uint32_t(list.size());
     tree.primIndices.insert(tree.primIndices.end(), list.begin(), list.end());
     ReplicationReport r = checkReplication(scene, tree);
-    EXPECT_TRUE(r.passes());  // false positives cost time, not hits
+    // A false positive costs time, not hits, but one this far from its leaf (a whole cell,
+    // far beyond the builder's 1e-9 padding) means the builder's overlap test is wrong: a
+    // dropped separating axis looks exactly like this. It fails (kMaxFalsePositiveGap).
+    EXPECT_FALSE(r.passes());
+    EXPECT_EQ(r.wideFalsePositives, 1u);
+    EXPECT_NE(humanSummary(r).find("wider than"), std::string::npos) << humanSummary(r);
     EXPECT_EQ(r.falseNegatives, 0u);
     EXPECT_EQ(r.falsePositives, 1u);
     ASSERT_EQ(r.falsePositiveList.size(), 1u);
@@ -136,6 +141,27 @@ TEST(Replication, ExtraEntryIsACountedFalsePositiveWithItsGap) {
     EXPECT_EQ(r.falsePositiveList[0].node, target);
     Vec3 e = n.box.extent();
     EXPECT_NEAR(r.falsePositiveList[0].gap, gap / double(std::max({e.x, e.y, e.z})), 1e-12);
+}
+
+// A stored box that is not the subdivision's cell (here one leaf shrunk by 1e-4 of its edge,
+// its list unchanged) loses hits along the gap, which the lists alone cannot show: the tiling
+// check names the node and fails.
+TEST(Replication, ShrunkNodeBoxIsATilingError) {
+    Scene scene = loadScene(meshPath("teapot.obj"));
+    Octree tree = buildOctree(scene, BuildParams{});
+    ASSERT_TRUE(checkReplication(scene, tree).passes());
+    uint32_t leaf = 0;
+    while (tree.nodes[leaf].nodeType() != NodeType::Leaf) ++leaf;
+    Aabb& b = tree.nodes[leaf].box;
+    const float s = 1e-4f * (b.hi.x - b.lo.x);
+    b.lo = b.lo + makeVec3(s);
+    b.hi = b.hi - makeVec3(s);
+    ReplicationReport r = checkReplication(scene, tree);
+    EXPECT_FALSE(r.passes());
+    EXPECT_EQ(r.tilingErrors, 1u);
+    ASSERT_FALSE(r.structuralErrors.empty());
+    EXPECT_NE(r.structuralErrors[0].find("node " + std::to_string(leaf) + " "), std::string::npos)
+        << r.structuralErrors[0];
 }
 
 // The check diagnoses broken trees, so a broken range must be reported, not read through.

@@ -126,7 +126,7 @@ TEST_F(Corruption, EmptiedLinearLeafFailsAndNamesPixels) {
                             f = Film(p.width, p.height);
                             renderFrameCpu(p, view, prims, f.view());
                         },
-                        [&](RayBatchView b) { traceRaysCpu(view, b); }};
+                        [&](RayBatchView b) { traceRaysCpu(view, b); }, NodeLookupFn{}};
     ValidateOptions o = opt;
     o.replication = false;
     ValidationReport rep = validateScene(scene, {bad}, nullptr, o);
