@@ -86,6 +86,10 @@ void runTable1(const ValidateCliOptions& o) {
 
 void runValidate(const ValidateCliOptions& o) {
     if (o.table1) return runTable1(o);
+    // Option errors first (cheap), then the regression files (seconds), then the scene.
+    checkRayCount(o.rays);
+    std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
+    std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
     const RegressionChecks reg = runRegressionChecks(o.golden, o.costBaseline, o.update, ".");
     std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
@@ -102,9 +106,6 @@ void runValidate(const ValidateCliOptions& o) {
                                      " (see the report above)");
         return;
     }
-    checkRayCount(o.rays);
-    std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
-    std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     ValidateOptions vo;
     parseImageSize(o.size, vo.camera.width, vo.camera.height);
     vo.rays = o.rays;

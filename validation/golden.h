@@ -62,12 +62,15 @@ struct ImageDiff {
 ImageDiff compareImages(int width, int height, const std::vector<uint8_t>& golden,
                         const std::vector<uint8_t>& rgb, int channel);
 
-// The pass rule (docs/VALIDATION.md): at most `maxOverFraction` of the pixels may differ by
-// more than `channel` levels, and no pixel by more than `maxDiff` levels.
+// The pass rule (docs/VALIDATION.md, "Golden images"): at most `maxOverFraction` of the pixels
+// may differ by more than `channel` levels, and none by more than `maxDiff` levels. By default
+// there is no cap on a single pixel: what another build or Embree legitimately changes is
+// either rounding (1 level) or an isolated flip (hit/miss at a silhouette, lit/occluded at a
+// shadow edge), large in colour but rare; a shading fault changes many pixels.
 struct GoldenTolerance {
     int channel = 1;
-    double maxOverFraction = 1e-3;
-    int maxDiff = 255;
+    double maxOverFraction = 5e-4;  // 8 pixels of 128 x 128
+    int maxDiff = 255;              // 255: no cap
     bool passes(const ImageDiff& d) const;
 };
 
