@@ -1,9 +1,11 @@
 #include "apps/cli.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <sstream>
 
@@ -186,6 +188,32 @@ void writeTextOutput(const std::string& path, const std::string& text) {
     out.commit();
 }
 
+namespace {
+
+// What to try after std::bad_alloc, in the options of the command that ran (layout builders
+// and loading name their own sizes; this is whatever else ran out).
+std::string outOfMemoryAdvice(const CLI::App& app) {
+    const std::vector<CLI::App*> ran = app.get_subcommands();
+    const std::string command = ran.empty() ? "" : ran[0]->get_name();
+    std::string advice = "a smaller scene, a lower --max-depth or a higher --max-prims";
+    if (command == "render") advice = "a smaller --size, " + advice;
+    if (command == "trace") advice = "fewer rays, " + advice;
+    if (command == "validate" || command == "bench")
+        advice = "a smaller --size, fewer --rays, " + advice;
+    return "out of memory (std::bad_alloc)" + (command.empty() ? "" : " in octrace " + command) +
+           ": try " + advice;
+}
+
+// Standard output is an output too: a full disk or a closed pipe behind it must not end in
+// exit status 0 with the results lost (as `--json -` into /dev/full did).
+bool standardOutputFailed() {
+    errno = 0;
+    std::cout.flush();
+    return std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout;
+}
+
+}  // namespace
+
 int runCli(int argc, char** argv) {
     CLI::App app{
         "octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
@@ -210,12 +238,16 @@ int runCli(int argc, char** argv) {
         std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
         return 2;
     } catch (const std::bad_alloc&) {
-        // Layout builders name their own sizes; this is whatever else ran out (a film, a scene).
-        std::cerr << "octrace: error: out of memory (std::bad_alloc): try a smaller --size, "
-                     "--max-depth or scene\n";
+        std::cerr << "octrace: error: " << outOfMemoryAdvice(app) << "\n";
         return 1;
     } catch (const std::exception& e) {
         std::cerr << "octrace: error: " << e.what() << "\n";
+        return 1;
+    }
+    if (standardOutputFailed()) {
+        const int err = errno;
+        std::cerr << "octrace: error: cannot write standard output: "
+                  << std::strerror(err ? err : EIO) << " (the results printed there are lost)\n";
         return 1;
     }
     return 0;

@@ -7,7 +7,8 @@
 
 #include "apps/cli.h"
 #include "apps/policy_options.h"
-#include "apps/ray_files.h"
+#include "core/io/output_file.h"
+#include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
 #include "validation/diff_image.h"
 #include "validation/hit_files.h"
@@ -44,14 +45,14 @@ std::string failure(const CertifyReport& r) {
 void runCertify(const CertifyCliOptions& o) {
     const std::string manifestPath = manifestPathFor(o.rays);
     const bool haveManifest = std::filesystem::exists(manifestPath);
-    cli_stopgap::refuseClobber({o.json, o.diffImage},
-                               {o.scene, o.rays, haveManifest ? manifestPath : "", hitTPath(o.hits),
-                                o.noPrim ? "" : hitPrimPath(o.hits)});
+    checkOutputPaths({o.json == "-" ? "" : o.json, o.diffImage},
+                     {o.scene, o.rays, haveManifest ? manifestPath : "", hitTPath(o.hits),
+                      o.noPrim ? "" : hitPrimPath(o.hits)});
     for (const std::string& p : {o.json, o.diffImage})
         if (!p.empty() && p != "-") checkWritable(p);
     setCpuThreadsFromOption(o.threads);
 
-    std::vector<float> rows = cli_stopgap::readRayRows(o.rays);
+    std::vector<float> rows = readRayFile(o.rays);
     const uint64_t n = rows.size() / 8;
     if (n == 0)
         throw std::runtime_error("'" + o.rays +

@@ -66,9 +66,10 @@ void runExplain(const ExplainOptions& o) {
     else if (!o.pixel.empty())
         parsePixel(o.pixel, x, y);
     if (o.ray.empty()) checkPixelInImage(x, y, cam.width, cam.height);
+    if (o.html == "-") throw CLI::ValidationError("--html", "needs a file name, not stdout");
+    checkOutputPaths({o.json == "-" ? "" : o.json, o.html}, {o.scene.path});
     for (const std::string* p : {&o.json, &o.html})
         if (!p->empty() && *p != "-") checkWritable(*p);
-    if (o.html == "-") throw CLI::ValidationError("--html", "needs a file name, not stdout");
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     BuiltScene bs = buildScene(scene, layout, o.scene.layoutOptions());

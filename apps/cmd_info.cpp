@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "validation/mesh_topology.h"
 
@@ -125,6 +126,7 @@ void printHuman(const nlohmann::json& j,
 }
 
 void runInfo(const InfoOptions& o) {
+    if (!o.json.empty() && o.json != "-") checkOutputPaths({o.json}, {o.scene.path});
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     LayoutOptions lo = o.scene.layoutOptions();
     Octree tree = buildOctree(scene, lo.build);

@@ -7,8 +7,8 @@
 #include <optional>
 
 #include "apps/cli.h"
-#include "apps/ray_files.h"
 #include "core/io/npy.h"
+#include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "validation/ray_manifest.h"
 
@@ -84,7 +84,7 @@ void runRays(const RaysOptions& o) {
         throw std::runtime_error("--count " + std::to_string(o.count) + " is more than " +
                                  std::to_string(kMaxRays) + " rays; use fewer");
     const std::string manifestPath = manifestPathFor(o.out);
-    cli_stopgap::refuseClobber({o.out, manifestPath, o.triangles}, {o.scene});
+    checkOutputPaths({o.out, manifestPath, o.triangles}, {o.scene});
     for (const std::string& p : {o.out, manifestPath, o.triangles})
         if (!p.empty()) checkWritable(p);
 

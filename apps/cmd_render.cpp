@@ -53,8 +53,11 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
     out.commit();
 }
 
-// Before any heavy work: every output folder must take a new file.
+// Before any heavy work: no output may name the scene or another output, and every output
+// folder must take a new file.
 void checkOutputs(const RenderOptions& o) {
+    checkOutputPaths({o.out, o.depthOut, o.primOut, o.costOut, o.heatmapOut, o.overlayOut},
+                     {o.scene.path});
     for (const std::string* p :
          {&o.out, &o.depthOut, &o.primOut, &o.costOut, &o.heatmapOut, &o.overlayOut})
         if (!p->empty()) checkWritable(*p);

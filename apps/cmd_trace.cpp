@@ -1,12 +1,11 @@
 // octrace trace: closest hits for a user's own ray set, the certification entry point.
 // Input  R.npy: float32 (N, 8) = ox oy oz dx dy dz tmin tmax (see docs/TRACE_FORMAT.md).
 // Output PREFIX.t.npy float32 (N,), +inf on a miss; PREFIX.prim.npy int32 (N,), -1 on a miss.
-#include <cmath>
 #include <cstdio>
-#include <cstring>
 
 #include "apps/cli.h"
 #include "core/io/npy.h"
+#include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
 
 namespace oct {
@@ -18,36 +17,15 @@ struct TraceOptions {
     TraceChoice trace{"linear", "auto"};
 };
 
-// Loads and checks the ray array: shape (N, 8) float32, finite origins, finite non-zero
-// directions, tmin <= tmax with tmin finite (tmax may be +inf). The first bad row is named.
-std::vector<float> loadRays(const std::string& path) {
-    NpyArray a = readNpy(path);
-    if (a.descr != "<f4" || a.shape.size() != 2 || a.shape[1] != 8)
-        throw IoError("'" + path +
-                      "' must be a float32 array of shape (N, 8): ox oy oz dx dy "
-                      "dz tmin tmax (got dtype " +
-                      a.descr + ")");
-    std::vector<float> rays(a.elementCount());
-    std::memcpy(rays.data(), a.data.data(), a.data.size());
-    for (uint64_t i = 0; i < a.shape[0]; ++i) {
-        const float* r = &rays[8 * i];
-        bool finite = true;
-        for (int k = 0; k < 7; ++k) finite = finite && std::isfinite(r[k]);
-        bool zeroDir = r[3] == 0.0f && r[4] == 0.0f && r[5] == 0.0f;
-        if (!finite || zeroDir || std::isnan(r[7]) || r[6] > r[7])
-            throw IoError("'" + path + "' row " + std::to_string(i) +
-                          ": needs finite origin, a finite non-zero direction and tmin <= tmax");
-    }
-    return rays;
-}
-
 void runTrace(const TraceOptions& o) {
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "trace");
     std::string note;
     const BackendDesc& backend = parseOneBackend(o.trace.backend, "trace", note);
-    checkWritable(o.out + ".t.npy");
+    const std::string tOut = o.out + ".t.npy", primOut = o.out + ".prim.npy";
+    checkOutputPaths({tOut, primOut}, {o.scene.path, o.rays});
+    checkWritable(tOut);
     setCpuThreadsFromOption(o.trace.threads);
-    std::vector<float> rays = loadRays(o.rays);
+    std::vector<float> rays = readRayFile(o.rays);
     uint64_t n = rays.size() / 8;
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
@@ -57,8 +35,8 @@ void runTrace(const TraceOptions& o) {
     std::vector<int32_t> prim(n);
     double seconds = traceWith(backend, bs, {rays.data(), t.data(), prim.data(), n});
     OutputSet out;  // both files or neither
-    out.stage(o.out + ".t.npy", encodeNpy("<f4", {n}, t.data(), 4));
-    out.stage(o.out + ".prim.npy", encodeNpy("<i4", {n}, prim.data(), 4));
+    out.stage(tOut, encodeNpy("<f4", {n}, t.data(), 4));
+    out.stage(primOut, encodeNpy("<i4", {n}, prim.data(), 4));
     out.commit();
     if (!note.empty()) std::printf("%s\n", note.c_str());
     uint64_t hits = 0;

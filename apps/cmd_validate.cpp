@@ -10,6 +10,7 @@
 
 #include "apps/cli.h"
 #include "apps/policy_options.h"
+#include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
 #include "validation/cost_baseline.h"
@@ -88,6 +89,9 @@ void runValidate(const ValidateCliOptions& o) {
     if (o.table1) return runTable1(o);
     // Option errors first (cheap), then the regression files (seconds), then the scene.
     checkRayCount(o.rays);
+    // The diff images get per-run names when several runs are compared; the plain name is
+    // checked here (the per-run names differ from it and from each other).
+    checkOutputPaths({o.json == "-" ? "" : o.json, o.diffImage}, {o.scene.path});
     std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
     std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);

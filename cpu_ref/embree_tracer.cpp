@@ -103,7 +103,11 @@ Hit closestHit(const EmbreeAccel& a, const Ray& ray, TraceCost&) {
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(a.scene, &ctx, &rh);
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return {INFINITY, -1};
+    // Embree's robust triangle test computes T = 2 dot(v0, Ng), the cube of the coordinates:
+    // past float range it reports tfar = +inf with a valid primitive. Never a hit at +inf; the
+    // numeric range (core/geometry/numeric_range.h) keeps every accepted input below it.
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || !(rh.ray.tfar < INFINITY))
+        return {INFINITY, -1};
     return {rh.ray.tfar, static_cast<int32_t>(rh.hit.primID)};
 }
 

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -97,6 +98,13 @@ struct RunOptions {
     // Called every 5 ms while the process runs, with its pid and the seconds so far; may send
     // it a signal (the process is still reaped and reported as usual).
     std::function<void(pid_t, double)> whileRunning;
+    // Where the process's stdout goes instead of the capture file (e.g. "/dev/full").
+    std::string stdoutPath;
+    // > 0: the process runs under RLIMIT_FSIZE of this many bytes (a write past it fails, as on
+    // a full disk), with SIGXFSZ ignored so that the write returns EFBIG instead of killing it.
+    uint64_t fileSizeLimit = 0;
+    // > 0: the process runs under RLIMIT_AS of this many bytes (allocations past it fail).
+    uint64_t addressSpaceLimit = 0;
 };
 
 // Runs octrace with `args`; stdout and stderr go to files in `captureDir` (created if needed).
@@ -115,8 +123,9 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, 1, outPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
-                                     0644);
+    posix_spawn_file_actions_addopen(
+        &actions, 1, opt.stdoutPath.empty() ? outPath.c_str() : opt.stdoutPath.c_str(),
+        O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_addopen(&actions, 2, errPath.c_str(), O_WRONLY | O_CREAT | O_TRUNC,
                                      0644);
     std::string oldDir;
@@ -124,11 +133,46 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
         oldDir = fs::current_path().string();
         fs::current_path(opt.workingDir);  // posix_spawn_file_actions_addchdir_np is glibc 2.29+
     }
+    // The terminating signals start at their default action, as in a user's terminal, even when
+    // the test runs as a background job (which ignores SIGINT) or under a harness that ignores
+    // SIGHUP: the signal tests rely on it.
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    sigset_t defaults;
+    sigemptyset(&defaults);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGPIPE, SIGXFSZ}) sigaddset(&defaults, sig);
+    struct rlimit oldLimit = {0, 0};
+    struct sigaction oldXfsz;
+    if (opt.fileSizeLimit > 0) {
+        // Inherited through posix_spawn: set in this process for the moment of the spawn.
+        getrlimit(RLIMIT_FSIZE, &oldLimit);
+        struct rlimit lim = {rlim_t(opt.fileSizeLimit), oldLimit.rlim_max};
+        setrlimit(RLIMIT_FSIZE, &lim);
+        struct sigaction ign;
+        std::memset(&ign, 0, sizeof ign);
+        ign.sa_handler = SIG_IGN;
+        sigaction(SIGXFSZ, &ign, &oldXfsz);
+        sigdelset(&defaults, SIGXFSZ);
+    }
+    struct rlimit oldAs = {0, 0};
+    if (opt.addressSpaceLimit > 0) {
+        getrlimit(RLIMIT_AS, &oldAs);
+        struct rlimit lim = {rlim_t(opt.addressSpaceLimit), oldAs.rlim_max};
+        setrlimit(RLIMIT_AS, &lim);
+    }
+    posix_spawnattr_setsigdefault(&attr, &defaults);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF);
     RunResult r;
     pid_t pid = 0;
     const auto start = std::chrono::steady_clock::now();
     const int rc =
-        posix_spawn(&pid, octraceBinary().c_str(), &actions, nullptr, cargv.data(), environ);
+        posix_spawn(&pid, octraceBinary().c_str(), &actions, &attr, cargv.data(), environ);
+    if (opt.fileSizeLimit > 0) {
+        setrlimit(RLIMIT_FSIZE, &oldLimit);
+        sigaction(SIGXFSZ, &oldXfsz, nullptr);
+    }
+    if (opt.addressSpaceLimit > 0) setrlimit(RLIMIT_AS, &oldAs);
+    posix_spawnattr_destroy(&attr);
     posix_spawn_file_actions_destroy(&actions);
     if (!oldDir.empty()) fs::current_path(oldDir);
     if (rc != 0) {

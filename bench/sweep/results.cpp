@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "backends/backend.h"
+#include "core/io/output_file.h"
 #include "core/time_spread.h"
 
 namespace oct {
@@ -33,16 +34,10 @@ std::string csvCell(const json& v) {
     return v.dump();
 }
 
-// Write to a temporary name and rename, so a reader never sees half a file.
+// Write to a temporary name and rename (core/io/output_file.h), so a reader never sees half a
+// file and an interrupted or failed write leaves no temporary behind.
 void writeAtomic(const fs::path& p, const std::string& text) {
-    fs::path tmp = p;
-    tmp += ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        if (!out) throw std::runtime_error("bench: cannot write '" + tmp.string() + "'");
-    }
-    fs::rename(tmp, p);
+    writeFileAtomic(p.string(), text.data(), text.size());
 }
 
 }  // namespace

@@ -78,7 +78,10 @@ OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, f
         if (tScaled < tmin * det || tScaled > tmax * det) return false;
     }
     tHit = tScaled / det;
-    return tHit >= tmin && tHit <= tmax;
+    // tScaled grows as the cube of the coordinates: past float range it is +inf and so is tHit,
+    // which the range test above lets through when tmax is +inf. Never a hit at +inf (inside
+    // the numeric range of numeric_range.h it cannot happen; outside it, no answer is a lie).
+    return tHit >= tmin && tHit <= tmax && tHit < INFINITY;
 }
 
 // Ray-sphere in the numerically careful form of Haines et al., "Precision Improvements for
@@ -108,11 +111,12 @@ OCT_HD inline bool intersectSphere(Vec3 org, Vec3 dir, const Sphere& s, float tm
         t0 = t1;
         t1 = t;
     }
-    if (t0 >= tmin && t0 <= tmax) {
+    // An overflowed c or q makes a root +inf: never a hit there (see intersectTriangle).
+    if (t0 >= tmin && t0 <= tmax && t0 < INFINITY) {
         tHit = t0;
         return true;
     }
-    if (t1 >= tmin && t1 <= tmax) {
+    if (t1 >= tmin && t1 <= tmax && t1 < INFINITY) {
         tHit = t1;
         return true;
     }

@@ -12,8 +12,10 @@ namespace oct {
 struct Vec3 {
     float x, y, z;  // 12 bytes, no padding
 
-    OCT_HD float operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
-    OCT_HD float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+    // Indexed as the three packed floats they are (standard layout, no padding: one load
+    // instead of a chain of selects on a run-time index, e.g. the triangle test's permutation).
+    OCT_HD float operator[](int i) const { return (&x)[i]; }
+    OCT_HD float& operator[](int i) { return (&x)[i]; }
 };
 static_assert(sizeof(Vec3) == 12, "Vec3 must be three packed floats");
 

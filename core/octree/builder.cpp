@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -16,9 +17,6 @@ V3<double> toV3d(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
 // rounding of the test itself can only add a leaf (a counted false positive), never lose one:
 // a lost leaf would lose hits. Inputs are floats, exactly representable in double.
 constexpr double kOverlapPad = 1e-9;
-
-// Leaf lists plus the level being built may hold at most 2^30 references (4 GiB of indices).
-constexpr uint64_t kMaxReferences = uint64_t(1) << 30;
 
 struct PendingNode {
     uint64_t key;
@@ -38,6 +36,49 @@ std::vector<uint32_t> overlapping(const Scene& scene, const std::vector<uint32_t
     for (uint32_t p : prims)
         if (primOverlaps(scene, p, box)) out.push_back(p);
     return out;
+}
+
+bool sameTriangle(const Triangle& a, const Triangle& b) {
+    // The same three vertices in any order (a duplicated face, possibly flipped).
+    auto key = [](const Triangle& t) {
+        std::array<std::array<float, 3>, 3> v = {
+            {{t.v0.x, t.v0.y, t.v0.z}, {t.v1.x, t.v1.y, t.v1.z}, {t.v2.x, t.v2.y, t.v2.z}}};
+        std::sort(v.begin(), v.end());
+        return v;
+    };
+    return key(a) == key(b);
+}
+
+// Beyond the paper: no split, at any depth, can separate the node's primitives when they are
+// all the same primitive (identical points, copies of one face) or all spheres containing the
+// whole node: every sub-cell overlaps all of them or none. Splitting them anyway only
+// multiplies nodes and references (9 identical points built 1.34 M nodes; 1,000 took 4.4 GB and
+// 38 s before the reference cap refused them), so such a node stays a leaf. The traversal then
+// tests the same primitives the split leaves would have listed; no other node changes.
+bool inseparable(const Scene& scene, const std::vector<uint32_t>& prims, const Aabb& box) {
+    if (scene.kind == PrimKind::Triangles) {
+        const Triangle& first = scene.triangles[prims[0]];
+        for (uint32_t p : prims)
+            if (!sameTriangle(scene.triangles[p], first)) return false;
+        return true;
+    }
+    const Sphere& first = scene.spheres[prims[0]];
+    bool same = true, allContain = true;
+    for (uint32_t p : prims) {
+        const Sphere& s = scene.spheres[p];
+        same = same && s.center.x == first.center.x && s.center.y == first.center.y &&
+               s.center.z == first.center.z && s.radius == first.radius;
+        // The farthest corner of the box within the radius: the sphere contains the box.
+        double d2 = 0.0;
+        for (int a = 0; a < 3; ++a) {
+            double e = std::max(std::fabs(double(box.lo[a]) - s.center[a]),
+                                std::fabs(double(box.hi[a]) - s.center[a]));
+            d2 += e * e;
+        }
+        allContain = allContain && d2 <= double(s.radius) * double(s.radius);
+        if (!same && !allContain) return false;
+    }
+    return true;
 }
 
 OctreeNode makeNode(const PendingNode& p, NodeType type) {
@@ -127,7 +168,8 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
         std::vector<PendingNode> next;
         uint64_t pendingRefs = 0;
         for (PendingNode& p : level) {
-            bool split = p.prims.size() > params.maxPrims && p.depth < tree.effectiveMaxDepth;
+            bool split = p.prims.size() > params.maxPrims && p.depth < tree.effectiveMaxDepth &&
+                         !inseparable(scene, p.prims, p.box);
             if (split) {
                 tree.nodes.push_back(makeNode(p, NodeType::Internal));
                 tree.firstChild.push_back(0);  // patched below, once the level's size is known
@@ -135,11 +177,13 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
                     PendingNode c{childKey(p.key, i), childBox(p.box, i), p.depth + 1, {}};
                     c.prims = overlapping(scene, p.prims, c.box);
                     // Large primitives replicate into most nodes: refuse before memory runs out.
-                    if ((pendingRefs += c.prims.size()) + tree.primIndices.size() > kMaxReferences)
+                    if ((pendingRefs += c.prims.size()) + tree.primIndices.size() >
+                        params.maxReferences)
                         throw OctreeError("octree of '" + scene.name + "' needs more than " +
-                                          std::to_string(kMaxReferences) +
-                                          " primitive references (4 GiB): lower --max-depth or "
-                                          "raise --max-prims");
+                                          std::to_string(params.maxReferences) +
+                                          " primitive references (" +
+                                          std::to_string(params.maxReferences * 4 >> 20) +
+                                          " MiB): lower --max-depth or raise --max-prims");
                     next.push_back(std::move(c));
                 }
             } else {

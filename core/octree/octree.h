@@ -25,6 +25,9 @@ struct BuildParams {
     int maxDepth = 7;
     // A node with more than this many primitives is split (unless at maxDepth).
     uint32_t maxPrims = 8;
+    // Leaf lists plus the level being built may hold at most this many references (2^30: 4 GiB
+    // of indices); the build is refused while building the level that would exceed it.
+    uint64_t maxReferences = uint64_t(1) << 30;
 };
 
 struct Octree {
@@ -57,6 +60,8 @@ Aabb rootCube(const Scene& scene);
 // Builds the paper's octree on the host. A node holding more than maxPrims primitives and
 // shallower than maxDepth is split into 8; a triangle goes into every child it overlaps
 // (Akenine-Möller, tri_box.h), a sphere into every child whose box is within its radius.
+// Beyond the paper, a node whose primitives no split could ever separate (all the same
+// primitive, or all spheres containing the node) is not split: it stays a leaf (builder.cpp).
 // Throws OctreeError for maxDepth outside [0, 21], maxPrims == 0, or an empty scene.
 Octree buildOctree(const Scene& scene, const BuildParams& params);
 

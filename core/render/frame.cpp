@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
+
+#include "core/geometry/numeric_range.h"
 
 namespace oct {
 namespace {
@@ -11,9 +14,27 @@ std::string str(Vec3 v) {
     return std::to_string(v.x) + "," + std::to_string(v.y) + "," + std::to_string(v.z);
 }
 
-void requireFinite(const char* what, const std::optional<Vec3>& v) {
-    if (v && !isFinite(*v))
+std::string shortStr(Vec3 v) {
+    std::ostringstream o;
+    o << v.x << "," << v.y << "," << v.z;
+    return o.str();
+}
+
+// The camera's eye and target and the light are ray origins or ray ends: finite and within
+// +-kMaxRayOrigin, the numeric range in which the float32 tests are correct.
+void requireInRange(const char* what, const std::optional<Vec3>& v) {
+    if (!v) return;
+    if (!isFinite(*v))
         throw FrameError(std::string("--") + what + " " + str(*v) + " is not finite");
+    const float m = std::max({std::fabs(v->x), std::fabs(v->y), std::fabs(v->z)});
+    if (double(m) > kMaxRayOrigin) {
+        std::ostringstream limit;
+        limit << kMaxRayOrigin;
+        throw FrameError(std::string("--") + what + " " + shortStr(*v) + " is beyond +-" +
+                         limit.str() +
+                         ", the range in which octrace's float32 ray tests are correct "
+                         "(docs/ROBUSTNESS.md, numeric range); bring it closer");
+    }
 }
 
 void checkOptions(const CameraOptions& o) {
@@ -24,10 +45,10 @@ void checkOptions(const CameraOptions& o) {
     if (!(o.fovDegrees > 0.0f && o.fovDegrees < 180.0f))
         throw FrameError("--fov " + std::to_string(o.fovDegrees) +
                          " must be strictly between 0 and 180 degrees");
-    requireFinite("eye", o.eye);
-    requireFinite("target", o.target);
-    requireFinite("up", o.up);
-    requireFinite("light", o.light);
+    requireInRange("eye", o.eye);
+    requireInRange("target", o.target);
+    if (o.up && !isFinite(*o.up)) throw FrameError("--up " + str(*o.up) + " is not finite");
+    requireInRange("light", o.light);
 }
 
 }  // namespace
@@ -47,14 +68,26 @@ FrameParams makeFrame(const Aabb& b, const CameraOptions& o) {
 
     Vec3 target = o.target.value_or(centre);
     Vec3 eye = o.eye.value_or(target + Vec3{0.0f, 0.0f, distance});
+    if (!o.eye && !(double(std::fabs(eye.z)) <= kMaxRayOrigin)) {
+        std::ostringstream why;
+        why << "the default eye for this scene and --fov " << o.fovDegrees
+            << " would sit at z = " << eye.z << ", beyond +-" << kMaxRayOrigin
+            << " (docs/ROBUSTNESS.md, numeric range); give --eye or a wider --fov";
+        throw FrameError(why.str());
+    }
     Vec3 upHint = o.up.value_or(Vec3{0.0f, 1.0f, 0.0f});
+    // Only its direction matters: scaled to a largest component of 1, so that neither --up
+    // 1e30,1e30,0 (whose length overflows) nor 1e-30,0,0 (whose length underflows) reads as zero.
+    const float upMax = std::max({std::fabs(upHint.x), std::fabs(upHint.y), std::fabs(upHint.z)});
+    if (upMax > 0.0f) upHint = upHint * (1.0f / upMax);
     Vec3 view = target - eye;
     if (!(length(view) > 0.0f))
         throw FrameError("--eye " + str(eye) + " equals --target: the view direction is undefined");
     Vec3 forward = normalize(view);
     Vec3 right = cross(forward, upHint);
     if (!(length(right) > 1e-6f * length(upHint)))
-        throw FrameError("--up " + str(upHint) + " is parallel to the view direction (or zero)");
+        throw FrameError("--up " + str(o.up.value_or(Vec3{0.0f, 1.0f, 0.0f})) +
+                         " is parallel to the view direction (or zero)");
     right = normalize(right);
     Vec3 up = cross(right, forward);
 

@@ -134,13 +134,26 @@ struct RayBatchView {
     uint64_t count;
 };
 
+// The ray's direction is scaled by the power of two 2^-e that brings its largest component into
+// [0.5, 1), tmin and tmax by 2^e, and the hit's t back by 2^-e. Only exponents change, so this
+// is exact: every tracer answers in the same bits as for the ray as given, except where the
+// ray as given would overflow float inside the tests (the triangle test's t * det grows as
+// 1 / |d|; Embree asserts |d| <= 1.8e19). The ray reader (core/io/ray_file.h) keeps the largest
+// component within [1e-19, 1e19], so e is within [-63, 64] and t stays a normal float for any
+// hit in the numeric range (core/geometry/numeric_range.h). A tmin or tmax past float range
+// after scaling becomes +inf or 0 exactly where no hit of the scene can lie.
 template <class Accel>
 OCT_HD inline void traceRayAt(uint64_t i, const Accel& accel, RayBatchView batch) {
     const float* r = batch.rays + 8 * i;
-    Ray ray = {{r[0], r[1], r[2]}, {r[3], r[4], r[5]}, r[6], r[7]};
+    int e = 0;
+    frexpf(fmaxf(fabsf(r[3]), fmaxf(fabsf(r[4]), fabsf(r[5]))), &e);
+    Ray ray = {{r[0], r[1], r[2]},
+               {ldexpf(r[3], -e), ldexpf(r[4], -e), ldexpf(r[5], -e)},
+               ldexpf(r[6], e),
+               ldexpf(r[7], e)};
     TraceCost cost = {0, 0};
     Hit hit = closestHit(accel, ray, cost);
-    batch.t[i] = hit.t;
+    batch.t[i] = ldexpf(hit.t, -e);
     batch.prim[i] = hit.prim;
 }
 

@@ -62,18 +62,57 @@ double largestCoordinate(const Scene& scene) {
     return m;
 }
 
+std::string shortNumber(double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+}
+
+// The numeric range of core/geometry/numeric_range.h (load_scene.h says why).
 void checkSceneRange(const Scene& scene) {
     if (uint64_t(scene.triangles.size()) + scene.spheres.size() >= UINT32_MAX)
         throw SceneError("cannot load " + inQuotes(scene.name) + ": it has more than 2^32 - 2 " +
                          "primitives, beyond octrace's 32-bit primitive ids; split the scene");
+    const std::string where =
+        " (docs/ROBUSTNESS.md, numeric range: float32 ray tests, ours and Embree's, are only "
+        "correct inside it); rescale the scene";
     const double largest = largestCoordinate(scene);
-    if (largest <= kMaxSceneCoordinate) return;
-    std::ostringstream value;
-    value << largest;
-    throw SceneError("cannot load " + inQuotes(scene.name) + ": its coordinates reach " +
-                     value.str() + ", beyond +-1e18, where octrace's float geometry (root cube, " +
-                     "camera, products of two coordinates) leaves float range; rescale the "
-                     "scene");
+    if (largest > kMaxSceneCoordinate)
+        throw SceneError("cannot load " + inQuotes(scene.name) + ": its coordinates reach " +
+                         shortNumber(largest) + ", beyond +-" + shortNumber(kMaxSceneCoordinate) +
+                         where);
+    const Vec3 e = scene.bounds().extent();
+    const double extent = std::max({double(e.x), double(e.y), double(e.z)});
+    if (extent < double(float(kMinSceneExtent)))  // as float: "1e-6" in a file is accepted
+        throw SceneError("cannot load " + inQuotes(scene.name) + ": its extent " +
+                         shortNumber(extent) + " is below " + shortNumber(kMinSceneExtent) + where);
+    uint64_t tiny = 0;
+    double smallest = INFINITY;
+    for (const Triangle& t : scene.triangles) {
+        const double ax = double(t.v1.x) - t.v0.x, ay = double(t.v1.y) - t.v0.y,
+                     az = double(t.v1.z) - t.v0.z;
+        const double bx = double(t.v2.x) - t.v0.x, by = double(t.v2.y) - t.v0.y,
+                     bz = double(t.v2.z) - t.v0.z;
+        const double cx = ay * bz - az * by, cy = az * bx - ax * bz, cz = ax * by - ay * bx;
+        const double twiceArea = std::sqrt(cx * cx + cy * cy + cz * cz);
+        if (twiceArea < kMinTriangleArea2) {
+            ++tiny;
+            smallest = std::min(smallest, twiceArea);
+        }
+    }
+    if (tiny > 0)
+        throw SceneError("cannot load " + inQuotes(scene.name) + ": " + std::to_string(tiny) +
+                         " of its triangles have an area below " +
+                         shortNumber(kMinTriangleArea2 / 2) + " (the smallest " +
+                         shortNumber(smallest / 2) +
+                         "), too small for a float32 ray test ever to hit" + where);
+    double smallestRadius = INFINITY;
+    for (const Sphere& s : scene.spheres)
+        smallestRadius = std::min(smallestRadius, double(s.radius));
+    if (smallestRadius < kMinSphereRadius)
+        throw SceneError("cannot load " + inQuotes(scene.name) + ": a sphere radius of " +
+                         shortNumber(smallestRadius) + " is below " +
+                         shortNumber(kMinSphereRadius) + where + " or give a larger --radius");
 }
 
 // "grid:N" or "grid:N:SEED", decimal, nothing else.

@@ -27,7 +27,7 @@
 // do: missing or unreadable file, a directory or other non-regular file, an unknown extension, a
 // file OpenMesh cannot read or that its reader would misread, hang on or crash on, a header
 // count the file's bytes cannot hold (checked before anything is sized from it), a truncated
-// file, coordinates beyond kMaxSceneCoordinate, or a scene left without a single usable
+// file, a scene outside the numeric range (below), or a scene left without a single usable
 // primitive. Running out of memory is a SceneError too. docs/ROBUSTNESS.md lists the malformed
 // inputs this is tested and fuzzed against (tests/data/bad/).
 //
@@ -38,15 +38,20 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/numeric_range.h"
 #include "core/scene/scene.h"
 
 namespace oct {
 
-// Loaded scenes must keep every coordinate (a sphere's centre plus its radius) within
-// +-kMaxSceneCoordinate: beyond it, the padded root cube, the camera placed from the bounds and
-// the products of two coordinates in the intersection tests leave float range (FLT_MAX is
-// about (1.8e19)^2). Generated grid clouds lie in the unit cube.
-constexpr double kMaxSceneCoordinate = 1e18;
+// Loaded scenes must lie in the numeric range of core/geometry/numeric_range.h, where the
+// float32 tests (ours and Embree's) are correct: every coordinate (a sphere's centre plus its
+// radius) within +-kMaxSceneCoordinate (beyond it the cube of the coordinates in the triangle
+// tests leaves float range and hits came back at t = +inf), an extent of at least
+// kMinSceneExtent, twice every triangle's area at least kMinTriangleArea2 and every radius at
+// least kMinSphereRadius (below them products of coordinates underflow: t = 0, or a triangle
+// that can never be hit). Anything else is refused with the value and "rescale". Generated
+// grid clouds lie in the unit cube.
+constexpr double kMaxSceneCoordinate = kMaxCoordinate;
 
 Scene loadScene(const std::string& path, const LoadOptions& opts = {});
 

@@ -327,6 +327,26 @@ add("unknown_extension.abc", TRI + "f 1 2 3\n", "error:unknown scene format")
 add("no_extension", TRI + "f 1 2 3\n", "error:unknown scene format")
 # A directory named like a mesh is created by the tests (git keeps no empty folders).
 
+# --- numeric range (core/geometry/numeric_range.h; docs/ROBUSTNESS.md, "Numeric range") --------
+# Kept apart from the format cases above. Beyond the range: refused; at its edges: loaded.
+TETRA = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
+
+
+def tetra(s):
+    return "v 0 0 0\nv %r 0 0\nv 0 %r 0\nv 0 0 %r\n" % (s, s, s) + TETRA
+
+
+add("range_coordinates_1e14.obj", tetra(1e14), "error:beyond +-1e+11")
+add("range_coordinates_at_bound.obj",
+    "v -1e11 -1e11 0\nv 1e11 -1e11 0\nv 0 1e11 1e11\nf 1 2 3\n", "ok:degenerate=0")
+add("range_extent_1e-20.obj", tetra(1e-20), "error:extent")
+add("range_extent_at_bound.obj", tetra(1e-6), "ok:degenerate=0")
+add("range_triangle_area_1e-60.obj", tetra(1.0) + "v 1e-30 0 0\nv 0 1e-30 0\nf 1 5 6\n",
+    "error:area below")
+# Two points 1e-16 apart beside a third: the default radius (half the median nearest-neighbour
+# distance) is 5e-17, below the smallest radius.
+add("range_points_radius_tiny.xyz", "0 0 0\n1e-16 0 0\n1 0 0\n", "error:sphere radius")
+
 # --- found by the fuzzer (fuzz/README.md) -----------------------------------------------------
 FUZZ_FOUND = [
     # "f /4 -5 -6": a corner without a vertex index; Debian's OpenMesh asserts (SIGABRT).

@@ -1,0 +1,33 @@
+// Ray files (docs/TRACE_FORMAT.md): a NumPy .npy file, little-endian float32 ('<f4'), C order,
+// shape (N, 8), row i = ox oy oz dx dy dz tmin tmax. `octrace trace` reads them, and every
+// command that takes a user's rays uses this one reader and this one row rule.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/io/output_file.h"
+
+namespace oct {
+
+// Reads the file in one pass, straight into the returned buffer (N * 8 floats; no second copy),
+// and checks every row with rayRowProblem. Throws IoError with one line naming the path and:
+//  - a path that is not a regular file (a FIFO, a device, a directory, a socket; also through a
+//    symlink): refused without reading, so a FIFO without a writer cannot block and /dev/zero
+//    cannot be read forever;
+//  - a bad .npy preamble or header (versions 1.0, 2.0 and 3.0; keys and strings in single or
+//    double quotes), Fortran order, a dtype or shape other than '<f4' (N, 8) (both named), a
+//    data size that disagrees with the shape (checked before allocating, overflow-safe), a file
+//    that changes size while read;
+//  - the first row that breaks the rule, as "row I" counted from 0.
+std::vector<float> readRayFile(const std::string& path);
+
+// Why row r (8 floats) cannot be traced, or "" when it can. The rule (the numeric range of
+// core/geometry/numeric_range.h, the same for every backend): the origin finite and within
+// +-kMaxRayOrigin; the direction finite with its largest |component| within
+// [kMinRayDirection, kMaxRayDirection]; tmin finite and >= 0 (Embree, the ground truth, takes
+// no negative tmin); tmax not NaN and >= tmin (+inf allowed).
+std::string rayRowProblem(const float* r);
+
+}  // namespace oct
