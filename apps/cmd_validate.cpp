@@ -13,6 +13,7 @@
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
+#include "validation/cost_baseline.h"
 #include "validation/diff_image.h"
 #include "validation/report.h"
 #include "validation/table1.h"
@@ -36,6 +37,8 @@ struct ValidateCliOptions {
     bool noReplication = false;
     bool table1 = false;
     std::string meshes = "meshes";
+    std::string golden, costBaseline;  // regression files (docs/VALIDATION.md)
+    bool update = false;
 };
 
 // The backends under test: Embree (any backend with its own structure) is the reference.
@@ -84,8 +87,7 @@ void runTable1(const ValidateCliOptions& o) {
 
 void runValidate(const ValidateCliOptions& o) {
     if (o.table1) return runTable1(o);
-    if (o.scene.path.empty())
-        throw std::runtime_error("validate needs a SCENE (or --table1); see --help");
+    // Option errors first (cheap), then the regression files (seconds), then the scene.
     checkRayCount(o.rays);
     // The diff images get per-run names when several runs are compared; the plain name is
     // checked here (the per-run names differ from it and from each other).
@@ -93,6 +95,21 @@ void runValidate(const ValidateCliOptions& o) {
     std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
     std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
+    const RegressionChecks reg = runRegressionChecks(o.golden, o.costBaseline, o.update, ".");
+    std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
+    if (o.scene.path.empty()) {
+        if (!reg.ran())
+            throw std::runtime_error(
+                "validate needs a SCENE (or --table1, --golden DIR, --cost-baseline FILE); see "
+                "--help");
+        nlohmann::json j = {{"pass", true}};
+        addToJson(j, reg);
+        if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
+        if (!reg.passes())
+            throw std::runtime_error("validation FAILED" + reg.failureText() +
+                                     " (see the report above)");
+        return;
+    }
     ValidateOptions vo;
     parseImageSize(o.size, vo.camera.width, vo.camera.height);
     vo.rays = o.rays;
@@ -135,7 +152,9 @@ void runValidate(const ValidateCliOptions& o) {
     std::FILE* human = summaryStream(o.json);
     std::fputs(humanSummary(rep).c_str(), human);
     std::fflush(human);
-    if (!o.json.empty()) writeTextOutput(o.json, toJson(rep).dump(2) + "\n");
+    nlohmann::json j = toJson(rep);
+    if (reg.ran()) addToJson(j, reg);
+    if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
     if (!o.diffImage.empty())
         for (const RunReport& run : rep.runs) {
             std::string path = diffPath(o.diffImage, run, rep.runs.size());
@@ -143,7 +162,7 @@ void runValidate(const ValidateCliOptions& o) {
             std::fprintf(human, "wrote    %s\n", path.c_str());
         }
     std::fflush(stdout);
-    if (!rep.passes())
+    if (!rep.passes() || !reg.passes())
         throw std::runtime_error("validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
                                  std::to_string(rep.ambiguous()) + " ambiguous" +
                                  (rep.replication && !rep.replication->passes()
@@ -152,7 +171,7 @@ void runValidate(const ValidateCliOptions& o) {
                                             std::to_string(rep.replication->rangeErrors) +
                                             " broken node ranges"
                                       : std::string()) +
-                                 " (see the report above)");
+                                 reg.failureText() + " (see the report above)");
 }
 
 }  // namespace
@@ -187,6 +206,15 @@ void registerValidate(CLI::App& app) {
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");
     cmd->add_option("--meshes", o->meshes, "Mesh folder for --table1")->capture_default_str();
+    cmd->add_option("--golden", o->golden,
+                    "Also compare renders of every layout and Embree with the golden images in "
+                    "DIR (DIR/golden.json; tests/data/golden); a SCENE is then optional");
+    cmd->add_option("--cost-baseline", o->costBaseline,
+                    "Also check every layout's mean nodes visited and primitives tested per "
+                    "pixel against FILE (tests/data/cost_baselines.json): fail above +5%");
+    cmd->add_flag("--update", o->update,
+                  "Rewrite the files of --golden and --cost-baseline from this build and print "
+                  "what changed, instead of checking them");
     cmd->callback([o] { runValidate(*o); });
 }
 
