@@ -141,8 +141,11 @@ TEST(CostBaseline, UpdateRewritesTheFile) {
     for (const CostRow& row : again.rows) EXPECT_EQ(row.verdict, CostVerdict::Same);
     // The same numbers as the committed file.
     const json mine = readJson(path)["scenes"][0]["layouts"];
-    for (const json& s : readJson(kBaselines)["scenes"])
-        if (s["scene"] == "meshes/teapot.obj") EXPECT_EQ(mine, s["layouts"]);
+    for (const json& s : readJson(kBaselines)["scenes"]) {
+        if (s["scene"] == "meshes/teapot.obj") {
+            EXPECT_EQ(mine, s["layouts"]);
+        }
+    }
 }
 
 }  // namespace

@@ -53,10 +53,11 @@ TEST(Golden, CommittedScenesMatchEveryLayoutAndEmbree) {
         scenes.insert(row.scene);
         // Same build flags, same bits: the CPU kernel reproduces its own goldens exactly
         // (docs/VALIDATION.md, "Golden images"); the tolerance is for other builds and Embree.
-        if (row.tracer != "embree")
+        if (row.tracer != "embree") {
             EXPECT_EQ(row.diff.differing, 0u)
                 << row.file << " " << row.tracer << ": max " << row.diff.maxDiff << "/255 at ("
                 << row.diff.worstX << ", " << row.diff.worstY << ")";
+        }
     }
     EXPECT_EQ(r.rows.size(), scenes.size() * tracers);
     // Every committed mesh and a generated cloud are pinned.
