@@ -165,38 +165,70 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
     level[0].prims = overlapping(scene, level[0].prims, tree.root);
 
     while (!level.empty()) {
-        std::vector<PendingNode> next;
+        // Phase 1, in parallel (OpenMP, dynamic: costs differ by orders of magnitude): which
+        // nodes split, then every child's list, one (node, octant) pair per iteration so the
+        // first levels (1 and 8 nodes holding every primitive) use every thread too. Each list
+        // reads only the scene and its parent's list, so the tree does not depend on the thread
+        // count. The reference cap is checked on a shared running total, as the serial build
+        // did child by child: the build is refused iff the level's total passes the cap.
+        const int64_t count = int64_t(level.size());
+        std::vector<uint8_t> splits(level.size(), 0);
+#pragma omp parallel for schedule(dynamic, 16) if (count > 64)
+        for (int64_t n = 0; n < count; ++n) {
+            const PendingNode& p = level[size_t(n)];
+            splits[size_t(n)] = p.prims.size() > params.maxPrims &&
+                                p.depth < tree.effectiveMaxDepth &&
+                                !inseparable(scene, p.prims, p.box);
+        }
+        std::vector<std::array<std::vector<uint32_t>, 8>> kids(level.size());
+        const uint64_t cap = params.maxReferences, stored = tree.primIndices.size();
         uint64_t pendingRefs = 0;
-        for (PendingNode& p : level) {
-            bool split = p.prims.size() > params.maxPrims && p.depth < tree.effectiveMaxDepth &&
-                         !inseparable(scene, p.prims, p.box);
-            if (split) {
+        bool overCap = false;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int64_t job = 0; job < 8 * count; ++job) {
+            const size_t n = size_t(job / 8), i = size_t(job % 8);
+            bool over;
+#pragma omp atomic read
+            over = overCap;
+            if (!splits[n] || over) continue;
+            const PendingNode& p = level[n];
+            kids[n][i] = overlapping(scene, p.prims, childBox(p.box, int(i)));
+            uint64_t total;
+#pragma omp atomic capture
+            total = pendingRefs += kids[n][i].size();
+            // Large primitives replicate into most nodes: refuse before memory runs out.
+            if (total + stored > cap) {
+#pragma omp atomic write
+                overCap = true;
+            }
+        }
+        if (overCap)
+            throw OctreeError("octree of '" + scene.name + "' needs more than " +
+                              std::to_string(params.maxReferences) + " primitive references (" +
+                              std::to_string(params.maxReferences * 4 >> 20) +
+                              " MiB): lower --max-depth or raise --max-prims");
+
+        // Phase 2, in order: records, leaf lists and the next level, breadth first.
+        std::vector<PendingNode> next;
+        for (size_t n = 0; n < level.size(); ++n) {
+            PendingNode& p = level[n];
+            if (splits[n]) {
                 tree.nodes.push_back(makeNode(p, NodeType::Internal));
                 tree.firstChild.push_back(0);  // patched below, once the level's size is known
-                for (int i = 0; i < 8; ++i) {
-                    PendingNode c{childKey(p.key, i), childBox(p.box, i), p.depth + 1, {}};
-                    c.prims = overlapping(scene, p.prims, c.box);
-                    // Large primitives replicate into most nodes: refuse before memory runs out.
-                    if ((pendingRefs += c.prims.size()) + tree.primIndices.size() >
-                        params.maxReferences)
-                        throw OctreeError("octree of '" + scene.name + "' needs more than " +
-                                          std::to_string(params.maxReferences) +
-                                          " primitive references (" +
-                                          std::to_string(params.maxReferences * 4 >> 20) +
-                                          " MiB): lower --max-depth or raise --max-prims");
-                    next.push_back(std::move(c));
-                }
+                for (int i = 0; i < 8; ++i)
+                    next.push_back({childKey(p.key, i), childBox(p.box, i), p.depth + 1,
+                                    std::move(kids[n][size_t(i)])});
             } else {
                 NodeType type = p.prims.empty() ? NodeType::EmptyLeaf : NodeType::Leaf;
-                OctreeNode n = makeNode(p, type);
+                OctreeNode nd = makeNode(p, type);
                 if (tree.primIndices.size() + p.prims.size() > 0xffffffffull)
                     throw OctreeError("octree of '" + scene.name +
                                       "' needs more than 2^32 primitive references: lower "
                                       "--max-depth or raise --max-prims");
-                n.primOffset = static_cast<uint32_t>(tree.primIndices.size());
-                n.primCount = static_cast<uint32_t>(p.prims.size());
+                nd.primOffset = static_cast<uint32_t>(tree.primIndices.size());
+                nd.primCount = static_cast<uint32_t>(p.prims.size());
                 tree.primIndices.insert(tree.primIndices.end(), p.prims.begin(), p.prims.end());
-                tree.nodes.push_back(n);
+                tree.nodes.push_back(nd);
                 tree.firstChild.push_back(Octree::kNoChild);
             }
             tree.depth = std::max(tree.depth, p.depth);

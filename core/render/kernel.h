@@ -3,6 +3,9 @@
 // backend passes an accelerator whose hit queries call Embree. Everything else is this code.
 #pragma once
 
+#include <cstdint>
+#include <cstring>
+
 #include "core/geometry/primitives_view.h"
 #include "core/geometry/ray.h"
 #include "core/octree/traversal_observer.h"
@@ -142,18 +145,45 @@ struct RayBatchView {
 // component within [1e-19, 1e19], so e is within [-63, 64] and t stays a normal float for any
 // hit in the numeric range (core/geometry/numeric_range.h). A tmin or tmax past float range
 // after scaling becomes +inf or 0 exactly where no hit of the scene can lie.
+// The scaling is a multiplication by a float power of two, built from its exponent bits:
+// correctly rounded like ldexpf (the same bits, overflow and underflow included), without a
+// libm call per ray (frexpf/ldexpf were 6% of a 4M-ray `octrace trace` on the CPU). A largest
+// component outside the normal exponents the fast form covers takes ldexpf.
+OCT_HD inline float powerOfTwo(int k) {  // 2^k, k in [-126, 127]
+    const uint32_t bits = uint32_t(k + 127) << 23;
+    float f;
+    memcpy(&f, &bits, sizeof f);
+    return f;
+}
+
 template <class Accel>
 OCT_HD inline void traceRayAt(uint64_t i, const Accel& accel, RayBatchView batch) {
     const float* r = batch.rays + 8 * i;
-    int e = 0;
-    frexpf(fmaxf(fabsf(r[3]), fmaxf(fabsf(r[4]), fabsf(r[5]))), &e);
-    Ray ray = {{r[0], r[1], r[2]},
-               {ldexpf(r[3], -e), ldexpf(r[4], -e), ldexpf(r[5], -e)},
-               ldexpf(r[6], e),
-               ldexpf(r[7], e)};
+    const float largest = fmaxf(fabsf(r[3]), fmaxf(fabsf(r[4]), fabsf(r[5])));
+    uint32_t bits;
+    memcpy(&bits, &largest, sizeof bits);
+    const int biased = int((bits >> 23) & 0xffu);  // largest = 1.m * 2^(biased - 127)
+    const int e = biased - 126;                    // frexpf's exponent: mantissa in [0.5, 1)
+    Ray ray;
+    ray.org = {r[0], r[1], r[2]};
     TraceCost cost = {0, 0};
-    Hit hit = closestHit(accel, ray, cost);
-    batch.t[i] = ldexpf(hit.t, -e);
+    if (e >= -120 && e <= 120) {
+        const float down = powerOfTwo(-e), up = powerOfTwo(e);
+        ray.dir = {r[3] * down, r[4] * down, r[5] * down};
+        ray.tmin = r[6] * up;
+        ray.tmax = r[7] * up;
+        const Hit hit = closestHit(accel, ray, cost);
+        batch.t[i] = hit.t * down;
+        batch.prim[i] = hit.prim;
+        return;
+    }
+    int e2 = 0;
+    frexpf(largest, &e2);
+    ray.dir = {ldexpf(r[3], -e2), ldexpf(r[4], -e2), ldexpf(r[5], -e2)};
+    ray.tmin = ldexpf(r[6], e2);
+    ray.tmax = ldexpf(r[7], e2);
+    const Hit hit = closestHit(accel, ray, cost);
+    batch.t[i] = ldexpf(hit.t, -e2);
     batch.prim[i] = hit.prim;
 }
 
