@@ -35,7 +35,23 @@ STYLE = {
 }
 LABEL = {"exhaustive": "exhaustive", "linear": "linear octree", "hash": "hash octree",
          bd.EMBREE: "Embree BVH (reference)"}
+BASE_STYLES = set(STYLE)
 PAPER_MAX_N = 64000
+EXTRA_STYLES = [dict(color="#8e44ad", marker="v"), dict(color="#d68910", marker="P"),
+                dict(color="#17a589", marker="X")]
+
+
+def label_of(layout):
+    """The legend name of a layout; layouts beyond this table (read from the results) by name."""
+    return LABEL.get(layout, layout)
+
+
+def style_of(layout):
+    """The marker and colour of a layout; others get the next spare style, stable per name."""
+    if layout not in STYLE:
+        STYLE[layout] = EXTRA_STYLES[len([k for k in STYLE if k not in BASE_STYLES]) %
+                                     len(EXTRA_STYLES)]
+    return STYLE[layout]
 
 
 def machine_note(run, backend):
@@ -84,8 +100,8 @@ def plot_time_paper(run, backend, path):
         if not pts:
             continue
         drawn = True
-        ax.plot([p[0] / 1000 for p in pts], [p[1] * 1e3 for p in pts], label=LABEL[layout],
-                **STYLE[layout])
+        ax.plot([p[0] / 1000 for p in pts], [p[1] * 1e3 for p in pts], label=label_of(layout),
+                **style_of(layout))
     if not drawn:
         plt.close(fig)
         return False
@@ -110,8 +126,8 @@ def plot_time_loglog(run, backend, path):
         ys = [p[1] * 1e3 for p in pts]
         lo = [(p[1] - p[2]) * 1e3 for p in pts]
         hi = [(p[3] - p[1]) * 1e3 for p in pts]
-        style = dict(STYLE[layout])
-        ax.errorbar(xs, ys, yerr=[lo, hi], label=LABEL[layout], capsize=2, **style)
+        style = dict(style_of(layout))
+        ax.errorbar(xs, ys, yerr=[lo, hi], label=label_of(layout), capsize=2, **style)
     if not drawn:
         plt.close(fig)
         return False
@@ -122,7 +138,7 @@ def plot_time_loglog(run, backend, path):
         if len(pts) >= 2:
             n0, t0 = pts[0][0], pts[0][1] * 1e3
             n1 = pts[-1][0]
-            ax.plot([n0, n1], [t0, t0 * (n1 / n0) ** slope], color=STYLE[layout]["color"],
+            ax.plot([n0, n1], [t0, t0 * (n1 / n0) ** slope], color=style_of(layout)["color"],
                     linestyle=":", linewidth=1, label=text)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -144,14 +160,14 @@ def plot_crossover(run, backend, path):
         pts = bd.series(run, layout, backend)
         if not pts:
             continue
-        ax.plot([p[0] for p in pts], [p[1] * 1e3 for p in pts], label=LABEL[layout],
-                **STYLE[layout])
+        ax.plot([p[0] for p in pts], [p[1] * 1e3 for p in pts], label=label_of(layout),
+                **style_of(layout))
         c = bd.crossover([(p[0], p[1]) for p in exh], [(p[0], p[1]) for p in pts])
         if c["kind"] == "between":
-            ax.axvline(c["n"], color=STYLE[layout]["color"], linestyle="--", linewidth=1)
+            ax.axvline(c["n"], color=style_of(layout)["color"], linestyle="--", linewidth=1)
             notes.append("%s: crossover N ~ %.0f" % (layout, c["n"]))
         elif c["kind"] == "below":
-            ax.axvline(c["n"], color=STYLE[layout]["color"], linestyle="--", linewidth=1)
+            ax.axvline(c["n"], color=style_of(layout)["color"], linestyle="--", linewidth=1)
             notes.append("%s faster already at N = %s" % (layout, bd.human_count(c["n"])))
         elif c["kind"] == "none":
             notes.append("%s never faster up to N = %s" % (layout, bd.human_count(c["n"])))
@@ -188,8 +204,8 @@ def plot_meshes(run, backend, path):
                 ys.append(r["frame_s_median"] * 1e3)
             elif r:
                 skipped.append(x)
-        style = STYLE[layout]
-        ax.bar(xs, ys, width=width, color=style["color"], label=LABEL[layout],
+        style = style_of(layout)
+        ax.bar(xs, ys, width=width, color=style["color"], label=label_of(layout),
                alpha=0.6 if layout == bd.EMBREE else 0.9)
         # A skipped case: its name at the foot of the empty slot (x in data, y in axes units).
         for x in skipped:
@@ -220,7 +236,7 @@ def plot_memory(run, path):
             continue
         drawn = True
         ns = sorted(pts)
-        ax.plot(ns, [pts[n] / 2**20 for n in ns], label=LABEL[layout], **STYLE[layout])
+        ax.plot(ns, [pts[n] / 2**20 for n in ns], label=label_of(layout), **style_of(layout))
     if not drawn:
         plt.close(fig)
         return False
@@ -248,8 +264,8 @@ def plot_cost(run, backend, path):
             if not pts:
                 continue
             drawn = True
-            ax.plot([p[0] for p in pts], [p[1] for p in pts], label=LABEL[layout],
-                    **STYLE[layout])
+            ax.plot([p[0] for p in pts], [p[1] for p in pts], label=label_of(layout),
+                    **style_of(layout))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("points N")
