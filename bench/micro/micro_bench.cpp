@@ -13,11 +13,13 @@
 #include <algorithm>
 #include <map>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "core/geometry/aabb.h"
 #include "core/geometry/primitives.h"
 #include "core/octree/built_scene.h"
+#include "core/octree/layout_registry.h"
 #include "core/octree/morton.h"
 #include "core/octree/traversal.h"
 #include "core/scene/grid_cloud.h"
@@ -249,6 +251,69 @@ void BM_LinearChild(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()));
 }
 BENCHMARK(BM_LinearChild)->Arg(4000)->Arg(32000)->Arg(256000);
+
+// The node test per child, for every layout of the registry: a grid cloud's octree traced by
+// random rays through the layout's own closestHit, the time divided by the children it tested
+// (TraceCost::nodesVisited: a node-record layout's box test with its child lookup, the compact
+// layout's share of its eight-lane test and its bounds test at pop). Primitive tests are timed
+// too; prims_per_child says how much of the time they can be.
+struct TraversalFixture {
+    Scene scene;
+    std::shared_ptr<const Octree> tree;
+    std::vector<Ray> rays;
+};
+
+const TraversalFixture& traversalFixture(uint32_t n) {
+    static std::map<uint32_t, TraversalFixture> cache;
+    auto it = cache.find(n);
+    if (it != cache.end()) return it->second;
+    TraversalFixture f{makeGridCloud(n, 1), nullptr, {}};
+    BuildParams p;
+    p.maxDepth = kMaxOctreeDepth;  // clamped to the grid depth by the builder
+    p.maxPrims = 1;
+    f.tree = buildSharedOctree(f.scene, p);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int i = 0; i < 4096; ++i) {  // from a sphere around the [0,1]^3 domain, through it
+        const Vec3 target = {u(rng), u(rng), u(rng)};
+        const Vec3 from = {4.0f * u(rng) - 1.5f, 4.0f * u(rng) - 1.5f, -2.0f};
+        f.rays.push_back({from, target - from, 0.0f, INFINITY});
+    }
+    return cache.emplace(n, std::move(f)).first->second;
+}
+
+void traversalPerChild(benchmark::State& state, const LayoutDesc* layout) {
+    const TraversalFixture& f = traversalFixture(uint32_t(state.range(0)));
+    LayoutOptions options;
+    options.build = f.tree->params;
+    const BuiltScene built = convertLayout(f.scene, f.tree, *layout, options);
+    uint64_t children = 0, prims = 0;
+    built.visit([&](const auto& view) {
+        size_t i = 0;
+        for (auto _ : state) {
+            TraceCost cost = {0, 0};
+            Hit h = closestHit(view, f.rays[i], cost);
+            benchmark::DoNotOptimize(h);
+            children += cost.nodesVisited;
+            prims += cost.primsTested;
+            if (++i == f.rays.size()) i = 0;
+        }
+    });
+    state.SetItemsProcessed(int64_t(children));  // items/s: children tested per second
+    state.counters["children_per_ray"] = double(children) / double(state.iterations());
+    state.counters["prims_per_child"] = double(prims) / double(std::max<uint64_t>(children, 1));
+    state.SetLabel(std::string(layout->name) + ": ns per child = 1e9 / items_per_second");
+}
+
+const bool kTraversalRegistered = [] {
+    for (const LayoutDesc& l : layouts())
+        if (l.usesOctree)
+            benchmark::RegisterBenchmark((std::string("BM_TraversalPerChild/") + l.name).c_str(),
+                                         traversalPerChild, &l)
+                ->Arg(16000)
+                ->Arg(256000);
+    return true;
+}();
 
 }  // namespace
 }  // namespace oct
