@@ -80,7 +80,9 @@ RayManifest describeRaySet(const Scene& scene, const RaySetSpec& spec, const Ray
     m.scene = scene.name;
     m.kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
     m.primitives = scene.primitiveCount();
-    if (scene.kind == PrimKind::Spheres && !scene.spheres.empty())
+    // The radius a point cloud file was loaded with, so that certify loads the same spheres. A
+    // generated grid cloud's radius is fixed by its spec (and the loader refuses one): none.
+    if (scene.kind == PrimKind::Spheres && !scene.spheres.empty() && scene.gridDepth < 0)
         m.radius = scene.spheres[0].radius;
     m.seed = spec.seed;
     m.count = spec.count;

@@ -101,6 +101,26 @@ TEST_F(CertifyCli, OwnTraceOfEveryLayoutPasses) {
     }
 }
 
+// Sphere scenes: a generated grid cloud (its radius is fixed, so certify must not hand the
+// manifest's radius back to the loader, which refuses a radius for grid:N) and a point cloud
+// file whose radius was given to `rays` (certify takes it from the manifest).
+TEST_F(CertifyCli, OwnTraceOfSphereScenesPasses) {
+    const std::string xyz = path("points.xyz");
+    ASSERT_TRUE(octtest::writeFile(xyz, "0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n0.5 0.5 0.2\n"));
+    for (const auto& [scene, radius] : std::vector<std::pair<std::string, std::string>>{
+             {"grid:512", ""}, {xyz, " --radius 0.05"}}) {
+        SCOPED_TRACE(scene);
+        RunResult r = run("rays " + quote(scene) + radius +
+                          " --count 700 --size 16x16 --seed 3 --out " + q("R.npy"));
+        ASSERT_EQ(r.status, 0) << show(r);
+        r = run("trace " + quote(scene) + radius + " --rays " + q("R.npy") + " --out " + q("H") +
+                " --backend cpu --accel linear");
+        ASSERT_EQ(r.status, 0) << show(r);
+        r = run(certify(scene));
+        EXPECT_EQ(r.status, 0) << show(r);
+    }
+}
+
 TEST_F(CertifyCli, ValidatesRaysAreTheStandardSetsByteForByte) {
     RunResult r = run("rays " + quote(kTeapot) + " --set around,inside,axis --count 300 --seed 7" +
                       " --out " + q("V.npy"));
