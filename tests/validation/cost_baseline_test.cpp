@@ -141,7 +141,8 @@ TEST(CostBaseline, UpdateRewritesTheFile) {
     for (const CostRow& row : again.rows) EXPECT_EQ(row.verdict, CostVerdict::Same);
     // The same numbers as the committed file.
     const json mine = readJson(path)["scenes"][0]["layouts"];
-    for (const json& s : readJson(kBaselines)["scenes"]) {
+    const json committed = readJson(kBaselines);  // the loop must not outlive it
+    for (const json& s : committed["scenes"]) {
         if (s["scene"] == "meshes/teapot.obj") {
             EXPECT_EQ(mine, s["layouts"]);
         }
