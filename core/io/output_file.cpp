@@ -14,6 +14,15 @@
 
 namespace oct {
 
+const char* fileKind(mode_t m) {
+    if (S_ISDIR(m)) return "a directory";
+    if (S_ISFIFO(m)) return "a FIFO";
+    if (S_ISSOCK(m)) return "a socket";
+    if (S_ISCHR(m)) return "a character device";
+    if (S_ISBLK(m)) return "a block device";
+    return "not a regular file";
+}
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -132,15 +141,6 @@ void discardTemp(const std::string& tmp, int slot) {
 
 std::string tempNameFor(const std::string& path) {
     return path + ".tmp." + std::to_string(::getpid());
-}
-
-const char* fileKind(mode_t m) {
-    if (S_ISDIR(m)) return "a directory";
-    if (S_ISFIFO(m)) return "a FIFO";
-    if (S_ISSOCK(m)) return "a socket";
-    if (S_ISCHR(m)) return "a character device";
-    if (S_ISBLK(m)) return "a block device";
-    return "not a regular file";
 }
 
 // An output is replaced by renaming a complete file onto it: onto a device node (as root) that

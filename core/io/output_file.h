@@ -12,6 +12,8 @@
 // SIGKILL cannot be caught: it can leave NAME.tmp.PID behind (never a partial NAME).
 #pragma once
 
+#include <sys/types.h>
+
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -55,6 +57,10 @@ private:
 // exists and is not a regular file (a device, FIFO, socket or directory: renaming onto a device
 // node as root would replace /dev/null itself).
 void checkWritable(const std::string& path);
+
+// What a path that is not a regular file is, for messages: "a directory", "a FIFO", "a socket",
+// "a character device", "a block device", else "not a regular file" (st_mode of stat/lstat).
+const char* fileKind(mode_t m);
 
 // Refuses, before any work, a command's outputs that would destroy a file or each other:
 //  - two outputs naming the same file (the second would overwrite the first and the set would

@@ -23,17 +23,8 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
     throw IoError("'" + path + "' is not a valid .npy file: " + why);
 }
 
-const char* kindOf(mode_t m) {
-    if (S_ISDIR(m)) return "a directory";
-    if (S_ISFIFO(m)) return "a FIFO";
-    if (S_ISSOCK(m)) return "a socket";
-    if (S_ISCHR(m)) return "a character device";
-    if (S_ISBLK(m)) return "a block device";
-    return "not a regular file";
-}
-
 [[noreturn]] void notRegular(const std::string& path, mode_t m) {
-    throw IoError("cannot read rays from '" + path + "': it is " + kindOf(m) +
+    throw IoError("cannot read rays from '" + path + "': it is " + fileKind(m) +
                   ", not a regular file; save the rays with numpy.save and give that file");
 }
 
