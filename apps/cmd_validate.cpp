@@ -35,6 +35,7 @@ struct ValidateCliOptions {
     std::string json, diffImage;
     ValidationPolicy policy;
     bool noReplication = false;
+    uint64_t boxRays = ValidateOptions{}.boxContractRays;
     bool table1 = false;
     std::string meshes = "meshes";
     std::string golden, costBaseline;  // regression files (docs/VALIDATION.md)
@@ -116,6 +117,7 @@ void runValidate(const ValidateCliOptions& o) {
     vo.seed = o.seed;
     vo.policy = o.policy;
     vo.replication = !o.noReplication;
+    vo.boxContractRays = o.boxRays;
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     if (scene.report.totalDropped() > 0)
@@ -163,15 +165,19 @@ void runValidate(const ValidateCliOptions& o) {
         }
     std::fflush(stdout);
     if (!rep.passes() || !reg.passes())
-        throw std::runtime_error("validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
-                                 std::to_string(rep.ambiguous()) + " ambiguous" +
-                                 (rep.replication && !rep.replication->passes()
-                                      ? ", " + std::to_string(rep.replication->falseNegatives) +
-                                            " replication false negatives, " +
-                                            std::to_string(rep.replication->rangeErrors) +
-                                            " broken node ranges"
-                                      : std::string()) +
-                                 reg.failureText() + " (see the report above)");
+        throw std::runtime_error(
+            "validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
+            std::to_string(rep.ambiguous()) + " ambiguous" +
+            (rep.replication && !rep.replication->passes()
+                 ? ", " + std::to_string(rep.replication->falseNegatives) +
+                       " replication false negatives, " +
+                       std::to_string(rep.replication->rangeErrors) + " broken node ranges"
+                 : std::string()) +
+            (rep.boxContract && !rep.boxContract->passes()
+                 ? ", box-test contract broken (" + std::to_string(rep.boxContract->culled) +
+                       " culled, " + std::to_string(rep.boxContract->loose) + " loose)"
+                 : std::string()) +
+            reg.failureText() + " (see the report above)");
 }
 
 }  // namespace
@@ -202,6 +208,10 @@ void registerValidate(CLI::App& app) {
                     "NAME-LAYOUT-BACKEND.png when there are several)");
     addPolicyOptions(*cmd, o->policy, "primary, shadow, rays");
     cmd->add_flag("--no-replication", o->noReplication, "Skip the replication check");
+    cmd->add_option("--box-rays", o->boxRays,
+                    "Rays of the box-test contract (exact rationals against the kernel's slab "
+                    "tests on the octree's boxes, docs/VALIDATION.md); 0 for none")
+        ->capture_default_str();
     cmd->add_flag("--table1", o->table1,
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");

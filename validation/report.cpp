@@ -153,6 +153,15 @@ json toJson(const ValidationReport& r) {
               {"pass", r.passes()},
               {"seconds", r.seconds}};
     j["replication"] = r.replication ? toJson(*r.replication) : json(nullptr);
+    j["box_contract"] = nullptr;
+    if (r.boxContract) {
+        const BoxContractReport& b = *r.boxContract;
+        j["box_contract"] = {{"pass", b.passes()},     {"rays", b.rays},
+                             {"tests", b.tests},       {"exact_meets", b.meets},
+                             {"touching", b.touching}, {"culled", b.culled},
+                             {"loose", b.loose},       {"slack", kBoxContractSlack},
+                             {"errors", b.errors}};
+    }
     return j;
 }
 
@@ -302,6 +311,17 @@ std::string humanSummary(const ValidationReport& r) {
         s += humanRaySets(run.rays, r.policy.maxAmbiguousRate);
     }
     if (r.replication) s += "\n" + humanSummary(*r.replication);
+    if (r.boxContract) {
+        const BoxContractReport& b = *r.boxContract;
+        s += fmt(
+            "\nbox test   %s: %llu rays on the octree's boxes, %llu float tests (intersectBox, "
+            "childIntervals) against exact rationals: %llu meet, %llu of them touching; %llu "
+            "culled a meeting ray, %llu accepted a ray missing the box grown by %g\n",
+            b.passes() ? "PASS" : "FAIL", (unsigned long long)b.rays, (unsigned long long)b.tests,
+            (unsigned long long)b.meets, (unsigned long long)b.touching,
+            (unsigned long long)b.culled, (unsigned long long)b.loose, kBoxContractSlack);
+        for (const std::string& e : b.errors) s += "  " + e + "\n";
+    }
     s += fmt("\n%s: %llu wrong, %llu ambiguous over %zu run(s)%s (%.2f s)\n",
              r.passes() ? "PASS" : "FAIL", (unsigned long long)r.wrong(),
              (unsigned long long)r.ambiguous(), r.runs.size(),

@@ -28,7 +28,7 @@ uint64_t ValidationReport::ambiguous() const {
 bool ValidationReport::passes() const {
     for (const RunReport& r : runs)
         if (!r.passes(policy.maxAmbiguousRate)) return false;
-    return !replication || replication->passes();
+    return (!replication || replication->passes()) && (!boxContract || boxContract->passes());
 }
 
 ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,
@@ -106,6 +106,8 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
         rep.runs.push_back(std::move(run));
     }
     if (o.replication && canonical) rep.replication = checkReplication(scene, *canonical);
+    if (o.boxContractRays > 0 && canonical)
+        rep.boxContract = checkBoxContract(*canonical, o.boxContractRays, o.seed);
     rep.seconds = since(start);
     return rep;
 }

@@ -15,6 +15,7 @@
 #include "core/octree/octree.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
+#include "validation/box_contract.h"
 #include "validation/certify.h"
 #include "validation/hit_validation.h"
 #include "validation/layout_structure.h"
@@ -38,6 +39,8 @@ struct ValidateOptions {
     uint64_t rays = 30000;  // seeded rays (ray_sets.h); 0 for none
     uint64_t seed = 1;
     bool replication = true;  // needs the canonical octree
+    // Rays of the box-test contract (box_contract.h) on the canonical octree's boxes; 0: none.
+    uint64_t boxContractRays = 20000;
     // A second frame seen and lit from the centre of the scene's box (docs/VALIDATION.md, "The
     // inside view"): every visible surface faces the light, and shadow rays have the geometry
     // behind the eye beyond their end (the default light lies outside the scene, so an any-hit
@@ -86,6 +89,7 @@ struct ValidationReport {
     double referenceSeconds = 0.0;     // Embree: build, frame and rays
     std::vector<RunReport> runs;
     std::optional<ReplicationReport> replication;
+    std::optional<BoxContractReport> boxContract;  // null without the canonical octree
     double seconds = 0.0;
 
     uint64_t wrong() const;

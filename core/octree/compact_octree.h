@@ -92,10 +92,14 @@ static_assert(std::is_trivially_copyable<CompactOctreeView>::value, "views are p
 // --- traversal ---------------------------------------------------------------------------------
 
 // Host loops over the eight lanes are written for the vectoriser; CUDA runs them per thread.
+// childIntervals is forced inline on the host: GCC kept it out of line once it became a function
+// of its own (7 % of a 4M-ray trace in the call and its stores), although it is one loop body.
 #if defined(__CUDA_ARCH__)
 #define OCT_SIMD_LOOP
+#define OCT_LANES_INLINE
 #else
 #define OCT_SIMD_LOOP _Pragma("omp simd")
+#define OCT_LANES_INLINE __attribute__((always_inline))
 #endif
 
 namespace compact_detail {
@@ -147,6 +151,39 @@ OCT_HD inline void halfSlabs(float o, float inv, float lo, float mid, float hi, 
     farT[0] = maxf(tl, tm) * kSlabFarScale;
     nearT[1] = minf(tm, th);
     farT[1] = maxf(tm, th) * kSlabFarScale;
+}
+
+// The slab intervals of the eight children of `box` (the builder's halving, childBox, so the
+// same bits) clipped to [tLo, tHi]: enter[i], exit[i] for octant i, and the mask of the children
+// the ray meets (touching counts, as intersectBox). validate's box-test contract checks exactly
+// this function (validation/box_contract.h).
+OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const RaySlabs& s, const Aabb& box,
+                                                       float tLo, float tHi, float* enter,
+                                                       float* exit) {
+    const Vec3 mid = box.center();
+    float nearX[2], farX[2], nearY[2], farY[2], nearZ[2], farZ[2];
+    halfSlabs(s.org.x, s.inv.x, box.lo.x, mid.x, box.hi.x, nearX, farX);
+    halfSlabs(s.org.y, s.inv.y, box.lo.y, mid.y, box.hi.y, nearY, farY);
+    halfSlabs(s.org.z, s.inv.z, box.lo.z, mid.z, box.hi.z, nearZ, farZ);
+    // Eight lanes, octant i taking the upper half along x when bit 0 is set, and so on,
+    // laid out as arrays so the vectoriser sees plain element-wise min/max (SoA lanes).
+    const float nx[8] = {nearX[0], nearX[1], nearX[0], nearX[1],
+                         nearX[0], nearX[1], nearX[0], nearX[1]};
+    const float ny[8] = {nearY[0], nearY[0], nearY[1], nearY[1],
+                         nearY[0], nearY[0], nearY[1], nearY[1]};
+    const float nz[8] = {nearZ[0], nearZ[0], nearZ[0], nearZ[0],
+                         nearZ[1], nearZ[1], nearZ[1], nearZ[1]};
+    const float fx[8] = {farX[0], farX[1], farX[0], farX[1], farX[0], farX[1], farX[0], farX[1]};
+    const float fy[8] = {farY[0], farY[0], farY[1], farY[1], farY[0], farY[0], farY[1], farY[1]};
+    const float fz[8] = {farZ[0], farZ[0], farZ[0], farZ[0], farZ[1], farZ[1], farZ[1], farZ[1]};
+    OCT_SIMD_LOOP
+    for (int i = 0; i < 8; ++i) {
+        enter[i] = maxf(maxf(maxf(tLo, nx[i]), ny[i]), nz[i]);
+        exit[i] = minf(minf(minf(tHi, fx[i]), fy[i]), fz[i]);
+    }
+    uint32_t hitMask = 0;
+    for (int i = 0; i < 8; ++i) hitMask |= uint32_t(enter[i] <= exit[i]) << i;
+    return hitMask;
 }
 
 // Set bits of an 8-bit mask (SWAR: popcount is a library call on x86-64 without -mpopcnt).
@@ -242,38 +279,9 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             continue;
         }
         const uint32_t mask = n.childMask(), leafMask = n.leafMask();
-        // The children's boxes: the builder's halving (childBox), so the same bits.
-        const Vec3 mid = e.box.center();
-        float nearX[2], farX[2], nearY[2], farY[2], nearZ[2], farZ[2];
-        compact_detail::halfSlabs(q.slabs.org.x, q.slabs.inv.x, e.box.lo.x, mid.x, e.box.hi.x,
-                                  nearX, farX);
-        compact_detail::halfSlabs(q.slabs.org.y, q.slabs.inv.y, e.box.lo.y, mid.y, e.box.hi.y,
-                                  nearY, farY);
-        compact_detail::halfSlabs(q.slabs.org.z, q.slabs.inv.z, e.box.lo.z, mid.z, e.box.hi.z,
-                                  nearZ, farZ);
-        // Eight lanes, octant i taking the upper half along x when bit 0 is set, and so on,
-        // laid out as arrays so the vectoriser sees plain element-wise min/max (SoA lanes).
-        const float nx[8] = {nearX[0], nearX[1], nearX[0], nearX[1],
-                             nearX[0], nearX[1], nearX[0], nearX[1]};
-        const float ny[8] = {nearY[0], nearY[0], nearY[1], nearY[1],
-                             nearY[0], nearY[0], nearY[1], nearY[1]};
-        const float nz[8] = {nearZ[0], nearZ[0], nearZ[0], nearZ[0],
-                             nearZ[1], nearZ[1], nearZ[1], nearZ[1]};
-        const float fx[8] = {farX[0], farX[1], farX[0], farX[1],
-                             farX[0], farX[1], farX[0], farX[1]};
-        const float fy[8] = {farY[0], farY[0], farY[1], farY[1],
-                             farY[0], farY[0], farY[1], farY[1]};
-        const float fz[8] = {farZ[0], farZ[0], farZ[0], farZ[0],
-                             farZ[1], farZ[1], farZ[1], farZ[1]};
         float enter[8], exit[8];
-        const float tLo = r.tmin, tHi = best.t;
-        OCT_SIMD_LOOP
-        for (int i = 0; i < 8; ++i) {
-            enter[i] = maxf(maxf(maxf(tLo, nx[i]), ny[i]), nz[i]);
-            exit[i] = minf(minf(minf(tHi, fx[i]), fy[i]), fz[i]);
-        }
-        uint32_t hitMask = 0;
-        for (int i = 0; i < 8; ++i) hitMask |= uint32_t(enter[i] <= exit[i]) << i;
+        uint32_t hitMask =
+            compact_detail::childIntervals(q.slabs, e.box, r.tmin, best.t, enter, exit);
         hitMask &= mask;
         cost.nodesVisited += compact_detail::bitCount8(mask);
         if (kKeys) {
