@@ -2,6 +2,7 @@
 // Input  R.npy: float32 (N, 8) = ox oy oz dx dy dz tmin tmax (see docs/TRACE_FORMAT.md).
 // Output PREFIX.t.npy float32 (N,), +inf on a miss; PREFIX.prim.npy int32 (N,), -1 on a miss.
 #include <cstdio>
+#include <memory>
 
 #include "apps/cli.h"
 #include "core/io/npy.h"
@@ -25,22 +26,28 @@ void runTrace(const TraceOptions& o) {
     checkOutputPaths({tOut, primOut}, {o.scene.path, o.rays});
     checkWritable(tOut);
     setCpuThreadsFromOption(o.trace.threads);
-    std::vector<float> rays = readRayFile(o.rays);
-    uint64_t n = rays.size() / 8;
+    // Every buffer below is filled before it is read, so none is zeroed: the rays straight from
+    // the file, the hits straight into the output files' data sections.
+    std::unique_ptr<float[]> rays;
+    const uint64_t n = readRayFileInto(o.rays, [&rays](uint64_t rows) {
+        rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
+        return rays.get();
+    });
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     BuiltScene bs =
         backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
-    std::vector<float> t(n);
-    std::vector<int32_t> prim(n);
-    double seconds = traceWith(backend, bs, {rays.data(), t.data(), prim.data(), n});
+    NpyBuffer tFile("<f4", {n}, 4), primFile("<i4", {n}, 4);
+    float* t = static_cast<float*>(tFile.data());
+    int32_t* prim = static_cast<int32_t*>(primFile.data());
+    double seconds = traceWith(backend, bs, {rays.get(), t, prim, n});
     OutputSet out;  // both files or neither
-    out.stage(tOut, encodeNpy("<f4", {n}, t.data(), 4));
-    out.stage(primOut, encodeNpy("<i4", {n}, prim.data(), 4));
+    out.stage(tOut, tFile.bytes(), tFile.size());
+    out.stage(primOut, primFile.bytes(), primFile.size());
     out.commit();
     if (!note.empty()) std::printf("%s\n", note.c_str());
     uint64_t hits = 0;
-    for (int32_t p : prim) hits += p >= 0;
+    for (uint64_t i = 0; i < n; ++i) hits += prim[i] >= 0;
     std::printf("%llu rays, %llu hits, %s on %s, %.3f s (%.3f Mrays/s)\n", (unsigned long long)n,
                 (unsigned long long)hits, tracedStructure(backend, layout), backend.name, seconds,
                 seconds > 0 ? double(n) / seconds * 1e-6 : 0.0);

@@ -79,25 +79,46 @@ std::vector<uint64_t> parseShape(const std::string& s, const std::string& path) 
     return shape;
 }
 
-}  // namespace
-
-std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint64_t>& shape,
-                               const void* data, size_t elementSize) {
+// Version 1.0 layout: magic "\x93NUMPY", major 1, minor 0, header length (uint16 LE), the
+// header (padded so data starts at a multiple of 64), then the raw little-endian data. Returns
+// the header and checks the element size.
+std::string checkedHeader(const std::string& descr, const std::vector<uint64_t>& shape,
+                          size_t elementSize, size_t& dataBytes) {
     if (descrSize(descr) != elementSize)
         throw IoError("internal: .npy dtype " + descr + " does not match element size");
     uint64_t count = 1;
     for (uint64_t d : shape) count *= d;
-    std::string header = headerFor(descr, shape);
-    // Version 1.0 layout: magic "\x93NUMPY", major 1, minor 0, header length (uint16 LE),
-    // the header (padded so data starts at a multiple of 64), then the raw little-endian data.
+    dataBytes = count * elementSize;
+    return headerFor(descr, shape);
+}
+
+void writePreamble(uint8_t* out, const std::string& header) {
+    std::memcpy(out, "\x93NUMPY\x01\x00", 8);
+    out[8] = uint8_t(header.size() & 0xff);
+    out[9] = uint8_t(header.size() >> 8);
+    std::memcpy(out + 10, header.data(), header.size());
+}
+
+}  // namespace
+
+NpyBuffer::NpyBuffer(const std::string& descr, const std::vector<uint64_t>& shape,
+                     size_t elementSize) {
+    size_t dataBytes = 0;
+    const std::string header = checkedHeader(descr, shape, elementSize, dataBytes);
+    dataOffset_ = 10 + header.size();
+    size_ = dataOffset_ + dataBytes;
+    bytes_.reset(new uint8_t[size_]);
+    writePreamble(bytes_.get(), header);
+}
+
+std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint64_t>& shape,
+                               const void* data, size_t elementSize) {
+    size_t dataBytes = 0;
+    const std::string header = checkedHeader(descr, shape, elementSize, dataBytes);
     // Sized once and filled with memcpy (gcc 12 misreads a chain of vector::insert calls here
     // as an overflow).
-    const size_t dataBytes = count * elementSize;
     std::vector<uint8_t> bytes(10 + header.size() + dataBytes);
-    std::memcpy(bytes.data(), "\x93NUMPY\x01\x00", 8);
-    bytes[8] = uint8_t(header.size() & 0xff);
-    bytes[9] = uint8_t(header.size() >> 8);
-    std::memcpy(bytes.data() + 10, header.data(), header.size());
+    writePreamble(bytes.data(), header);
     if (dataBytes) std::memcpy(bytes.data() + 10 + header.size(), data, dataBytes);
     return bytes;
 }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,22 @@ struct NpyArray {
     std::vector<uint8_t> data;  // C order, little-endian
 
     uint64_t elementCount() const;
+};
+
+// A .npy file built in place: the preamble and header written, the data section left for the
+// caller to fill (trace writes its hits straight into it: no zero-filled array, no copy). The
+// data starts at a multiple of 64 bytes from the start of the buffer, so it is aligned for any
+// element type.
+class NpyBuffer {
+public:
+    NpyBuffer(const std::string& descr, const std::vector<uint64_t>& shape, size_t elementSize);
+    void* data() { return bytes_.get() + dataOffset_; }
+    const uint8_t* bytes() const { return bytes_.get(); }
+    size_t size() const { return size_; }
+
+private:
+    std::unique_ptr<uint8_t[]> bytes_;  // new uint8_t[n]: not value-initialised
+    size_t size_ = 0, dataOffset_ = 0;
 };
 
 // The complete file's bytes. descr and the element size must match.

@@ -171,7 +171,22 @@ std::string rayRowProblem(const float* r) {
     return "";
 }
 
-std::vector<float> readRayFile(const std::string& path) {
+namespace {
+
+// The lowest row index that breaks the rule, or rows when none does. The rows are checked in
+// parallel (a file holds millions); the answer is the lowest index, as a sequential scan gives.
+uint64_t firstBadRow(const float* rays, uint64_t rows) {
+    uint64_t first = rows;
+    const int64_t n = int64_t(rows);
+#pragma omp parallel for schedule(static) reduction(min : first)
+    for (int64_t i = 0; i < n; ++i)
+        if (uint64_t(i) < first && !rayRowProblem(rays + 8 * i).empty()) first = uint64_t(i);
+    return first;
+}
+
+}  // namespace
+
+uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate) {
     // O_NONBLOCK: opening a FIFO without a writer returns at once (and is then refused below).
     Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
     if (fd.get() < 0) {
@@ -227,15 +242,23 @@ std::vector<float> readRayFile(const std::string& path) {
                       " data bytes but the file has " + std::to_string(available) +
                       " (truncated or wrong header)");
 
-    std::vector<float> rays(rows * 8);  // the final buffer: read into directly, one pass
+    float* rays = allocate(rows);  // the final buffer: read into directly, one pass
     char extra;
-    if (readFull(fd.get(), rays.data(), available) != available ||
-        readFull(fd.get(), &extra, 1) != 0)
+    if (readFull(fd.get(), rays, available) != available || readFull(fd.get(), &extra, 1) != 0)
         bad(path, "the file changed while it was read");
-    for (uint64_t i = 0; i < rows; ++i) {
-        std::string why = rayRowProblem(&rays[8 * i]);
-        if (!why.empty()) throw IoError("'" + path + "' row " + std::to_string(i) + ": " + why);
-    }
+    const uint64_t first = firstBadRow(rays, rows);
+    if (first < rows)
+        throw IoError("'" + path + "' row " + std::to_string(first) + ": " +
+                      rayRowProblem(&rays[8 * first]));
+    return rows;
+}
+
+std::vector<float> readRayFile(const std::string& path) {
+    std::vector<float> rays;
+    readRayFileInto(path, [&rays](uint64_t rows) {
+        rays.resize(rows * 8);
+        return rays.data();
+    });
     return rays;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,11 @@ namespace oct {
 //    that changes size while read;
 //  - the first row that breaks the rule, as "row I" counted from 0.
 std::vector<float> readRayFile(const std::string& path);
+
+// The same reader into storage of the caller's: allocate(rows) returns room for rows * 8 floats,
+// which the file's bytes then fill (so it need not be zeroed: trace passes new float[]).
+// Returns the row count.
+uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate);
 
 // Why row r (8 floats) cannot be traced, or "" when it can. The rule (the numeric range of
 // core/geometry/numeric_range.h, the same for every backend): the origin finite and within

@@ -7,11 +7,16 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
+#include <vector>
+
+#include "core/io/ray_file.h"
 
 namespace oct {
 namespace {
@@ -83,6 +88,53 @@ TEST_F(NpyFiles, RefusesMismatchedQuotesAndFortranOrder) {
     EXPECT_THROW(readNpy(write("b.npy", npyBytes("{\"descr\": \"<f4\", \"fortran_order\": True, "
                                                  "\"shape\": (2, 3)}"))),
                  IoError);
+}
+
+// trace builds its output files in place (NpyBuffer): the same bytes as encodeNpy.
+TEST_F(NpyFiles, BufferFilledInPlaceEqualsEncodedFile) {
+    const float values[5] = {1.5f, -0.0f, INFINITY, 3.25f, 7.0f};
+    NpyBuffer b("<f4", {5}, 4);
+    std::memcpy(b.data(), values, sizeof values);
+    EXPECT_EQ((reinterpret_cast<uintptr_t>(b.data()) - reinterpret_cast<uintptr_t>(b.bytes())) % 64,
+              0u);
+    const std::vector<uint8_t> want = encodeNpy("<f4", {5}, values, 4);
+    ASSERT_EQ(b.size(), want.size());
+    EXPECT_EQ(std::memcmp(b.bytes(), want.data(), want.size()), 0);
+    EXPECT_THROW(NpyBuffer("<f4", {5}, 8), IoError);
+}
+
+// Rows are checked in parallel; the error names the lowest bad row, as a sequential scan would.
+TEST_F(NpyFiles, RayFileErrorNamesTheLowestBadRow) {
+    const uint64_t rows = 200000;
+    std::vector<float> r(rows * 8);
+    for (uint64_t i = 0; i < rows; ++i) {
+        r[8 * i + 3] = 1.0f;  // direction +x, tmin 0, tmax +inf
+        r[8 * i + 7] = INFINITY;
+    }
+    r[8 * 150001 + 6] = -1.0f;  // negative tmin
+    r[8 * 70003 + 4] = NAN;     // NaN direction
+    r[8 * 190000 + 0] = INFINITY;
+    const std::vector<uint8_t> bytes = encodeNpy("<f4", {rows, 8}, r.data(), 4);
+    const std::string path = write("rays.npy", std::string(bytes.begin(), bytes.end()));
+    try {
+        readRayFile(path);
+        FAIL() << "bad rows accepted";
+    } catch (const IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("row 70003:"), std::string::npos) << e.what();
+    }
+    r[8 * 70003 + 4] = 0.0f;
+    r[8 * 150001 + 6] = 0.0f;
+    r[8 * 190000 + 0] = 0.0f;
+    const std::vector<uint8_t> good = encodeNpy("<f4", {rows, 8}, r.data(), 4);
+    const std::string okPath = write("ok.npy", std::string(good.begin(), good.end()));
+    std::unique_ptr<float[]> into;
+    EXPECT_EQ(readRayFileInto(okPath,
+                              [&into](uint64_t n) {
+                                  into.reset(new float[n * 8]);
+                                  return into.get();
+                              }),
+              rows);
+    EXPECT_EQ(std::memcmp(into.get(), r.data(), rows * 32), 0);
 }
 
 }  // namespace
