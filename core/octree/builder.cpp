@@ -111,6 +111,13 @@ bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
     V3<double> h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
     double pad = kOverlapPad * std::max({h.x, h.y, h.z});
     h = {h.x + pad, h.y + pad, h.z + pad};
+    // A vertex in the closed box is a shared point: overlap, without the 13 axes. Most pairs a
+    // split tests that are not rejected by the bounding boxes are of this kind (a triangle is
+    // small against its cell). The difference to the centre is formed as triBoxOverlap forms it.
+    for (const Vec3& v : {tri.v0, tri.v1, tri.v2})
+        if (std::fabs(double(v.x) - c.x) <= h.x && std::fabs(double(v.y) - c.y) <= h.y &&
+            std::fabs(double(v.z) - c.z) <= h.z)
+            return true;
     return triBoxOverlap(c, h, toV3d(tri.v0), toV3d(tri.v1), toV3d(tri.v2));
 }
 
