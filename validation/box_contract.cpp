@@ -2,6 +2,7 @@
 
 #include <gmp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -91,12 +92,23 @@ private:
     Rational enter_, exit_, ta_, tb_, num_, den_;
 };
 
+// The box, grown on every side by `grow` (absolute).
 void bounds(const Aabb& b, double grow, double lo[3], double hi[3]) {
-    const double edge = double(b.hi.x) - double(b.lo.x);
     for (int a = 0; a < 3; ++a) {
-        lo[a] = double(b.lo[a]) - grow * edge;
-        hi[a] = double(b.hi[a]) + grow * edge;
+        lo[a] = double(b.lo[a]) - grow;
+        hi[a] = double(b.hi[a]) + grow;
     }
+}
+
+// The tightness margin: kBoxContractSlack of the box's edge or of its distance from the origin,
+// whichever is larger. The kernel's t at a plane is rounded relative to t, so a box far from the
+// origin is widened by rounding in proportion to that distance (about 2e-7 of it), not to its
+// size.
+double tightMargin(const TestRay& r, const Aabb& b) {
+    const Vec3 c = b.center();
+    double d2 = 0.0;
+    for (int a = 0; a < 3; ++a) d2 += (double(r.o[a]) - c[a]) * (double(r.o[a]) - c[a]);
+    return kBoxContractSlack * std::max(double(b.hi.x) - double(b.lo.x), std::sqrt(d2));
 }
 
 // Is plane - o exact in float for every plane of the box and its children's, so the kernel's t
@@ -178,9 +190,12 @@ TestRay graze(Rng& rng, const Aabb& b) {
             p[a] = stepUlps(plane, int(rng.below(7)) - 3);
         }
     }
+    // From 0.5 to 8192 edges away, log-uniform: an exact interval shorter than the rounding of
+    // t (about 2e-7 t) is what the far scaling is for, and a far origin makes t large against
+    // the distance by which the ray misses or clears the edge (the rounding of the origin).
     const float edge = b.hi.x - b.lo.x;
     r.d = unitVector(rng);
-    const float s = rng.range(0.5f, 4.0f) * edge;
+    const float s = std::ldexp(float(0.5 + 0.5 * rng.u01()), int(rng.below(15))) * edge;
     r.o = p - r.d * s;
     return r;
 }
@@ -225,7 +240,7 @@ public:
                           r, b, n, child));
         }
         if (floatHit && m == Meet::Miss) {
-            bounds(b, kBoxContractSlack, lo, hi);
+            bounds(b, tightMargin(r, b), lo, hi);
             if (exact_.meet(r, lo, hi) == Meet::Miss) {
                 ++rep_.loose;
                 note(describe("accepted a ray that misses the grown box", test, r, b, n, child));

@@ -11,8 +11,9 @@
 // in the box. With tmin = 0 the contract is
 //  conservative  an exact meet is never culled, touching (the exact interval a single t)
 //                included: Ize's far-distance scaling (Ize 2013) exists for this;
-//  tight         a ray that misses the box grown by kBoxContractSlack of its edge on every side
-//                is culled: rounding may widen the test, nothing else may.
+//  tight         a ray that misses the box grown on every side by kBoxContractSlack of its edge
+//                or of its distance from the origin (rounding is relative to t), whichever is
+//                larger, is culled: rounding may widen the test, nothing else may.
 // A finite tmax is checked only where its entry t is exact in float (axis directions, exact
 // differences), because the kernel compares tmax with the rounded entry: a ray whose segment
 // ends inside the rounding of its entry may go either way, and that changes a hit by rounding

@@ -316,7 +316,8 @@ std::string humanSummary(const ValidationReport& r) {
         s += fmt(
             "\nbox test   %s: %llu rays on the octree's boxes, %llu float tests (intersectBox, "
             "childIntervals) against exact rationals: %llu meet, %llu of them touching; %llu "
-            "culled a meeting ray, %llu accepted a ray missing the box grown by %g\n",
+            "culled a meeting ray, %llu accepted a ray missing the box grown by %g (of its edge or "
+            "distance)\n",
             b.passes() ? "PASS" : "FAIL", (unsigned long long)b.rays, (unsigned long long)b.tests,
             (unsigned long long)b.meets, (unsigned long long)b.touching,
             (unsigned long long)b.culled, (unsigned long long)b.loose, kBoxContractSlack);
