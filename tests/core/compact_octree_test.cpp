@@ -141,6 +141,25 @@ Scene mesh(const std::string& name) {
     return loadScene(std::string(OCT_SOURCE_DIR) + "/meshes/" + name);
 }
 
+// The bit helpers the child indices and the front-to-back order rest on, over every mask.
+TEST(CompactOctree, BitHelpersOverEveryMask) {
+    for (uint32_t m = 0; m < 256; ++m) {
+        uint32_t count = 0;
+        for (int b = 0; b < 8; ++b) count += (m >> b) & 1u;
+        ASSERT_EQ(oct::compact_detail::bitCount8(m), count) << m;
+        for (int flip = 0; flip < 8; ++flip) {
+            const uint32_t p = oct::compact_detail::xorPermute(m, flip);
+            for (int j = 0; j < 8; ++j)
+                ASSERT_EQ((p >> j) & 1u, (m >> (j ^ flip)) & 1u) << m << " " << flip << " " << j;
+        }
+        if (m) {
+            int high = 7;
+            while (!((m >> high) & 1u)) --high;
+            ASSERT_EQ(oct::compact_detail::highestBit(m), high) << m;
+        }
+    }
+}
+
 TEST(CompactOctree, HoldsTheCanonicalTreeExactly) {
     for (const char* m : {"teapot.obj", "cornell_box.obj", "spider.obj", "sphere_with_hole.stl"})
         for (BuildParams p : {BuildParams{7, 8}, BuildParams{10, 1}, BuildParams{3, 4}}) {
