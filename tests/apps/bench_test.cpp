@@ -17,6 +17,8 @@
 
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
+#include "tests/json_file.h"
+#include "tests/paths.h"
 
 namespace {
 
@@ -25,7 +27,7 @@ using json = nlohmann::ordered_json;
 using oct::LayoutDesc;
 using oct::layouts;
 
-const std::string kMeshes = std::string(OCT_SOURCE_DIR) + "/meshes";
+using octtest::kMeshes;
 
 // Every field a result row carries, in the order of the CSV header.
 const std::vector<std::string> kFields = {
@@ -54,11 +56,6 @@ int runOctrace(const std::string& args, const fs::path& logFile, std::string& lo
     log = r.out + r.err;
     octtest::writeFile(logFile, log);
     return r.status;
-}
-
-json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return json::parse(in);
 }
 
 std::vector<std::string> readLines(const fs::path& p) {
@@ -92,7 +89,7 @@ TEST(BenchCommand, QuickSweepWritesEveryFieldAndCase) {
     ASSERT_TRUE(fs::exists(dir / "out" / "bench.csv")) << log;
     ASSERT_TRUE(fs::exists(dir / "out" / "bench.json")) << log;
 
-    json doc = readJson(dir / "out" / "bench.json");
+    json doc = octtest::readJson<json>(dir / "out" / "bench.json");
     EXPECT_EQ(doc["format"], "octrace-bench/1");
     EXPECT_EQ(doc["complete"], true);
     for (const char* k :
@@ -169,7 +166,7 @@ TEST(BenchCommand, LimitsAreSkippedRowsWithAReason) {
             (dir / "out").string() + "'",
         dir / "log.txt", log);
     ASSERT_EQ(rc, 0) << log;
-    json doc = readJson(dir / "out" / "bench.json");
+    json doc = octtest::readJson<json>(dir / "out" / "bench.json");
     const json& rows = doc["results"];
     ASSERT_EQ(rows.size(), 3u) << log;
     const json* exh = findRow(rows, "grid:32000:1", "exhaustive", "cpu");

@@ -16,6 +16,7 @@
 #include "core/octree/layout_registry.h"
 #include "core/scene/load_scene.h"
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 #include "validation/ray_sets.h"
 
 namespace oct {
@@ -23,9 +24,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
-const std::string kCube = kMeshes + "/cube_binary.ply";
-const std::string kTeapot = kMeshes + "/teapot.obj";
+using octtest::kCube;
+using octtest::kMeshes;
+using octtest::kTeapot;
 
 using octtest::isOneLineError;
 using octtest::quote;

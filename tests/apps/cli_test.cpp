@@ -32,6 +32,7 @@
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 #include "validation/film_compare.h"
 
 namespace oct {
@@ -39,9 +40,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+using octtest::kMeshes;
+using octtest::kTeapot;
 const std::string kCornell = kMeshes + "/cornell_box.obj";
-const std::string kTeapot = kMeshes + "/teapot.obj";
 // Octree runs use a shallow tree: the default depth 7 makes the linear layout allocate 115 MB
 // per run, which costs a second per invocation and tests nothing more here.
 const std::string kShallow = " --max-depth 5";

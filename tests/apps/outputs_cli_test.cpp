@@ -21,6 +21,7 @@
 
 #include "core/io/npy.h"
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {
@@ -33,9 +34,9 @@ using octtest::RunOptions;
 using octtest::RunResult;
 using octtest::show;
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
-const std::string kCube = kMeshes + "/cube_binary.ply";
-const std::string kTeapot = kMeshes + "/teapot.obj";
+using octtest::kCube;
+using octtest::kMeshes;
+using octtest::kTeapot;
 const std::string kKeep = "existing bytes that must survive\n";
 
 class Outputs : public ::testing::Test {

@@ -21,6 +21,7 @@
 #include "core/geometry/numeric_range.h"
 #include "core/io/npy.h"
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {
@@ -33,8 +34,8 @@ using octtest::RunOptions;
 using octtest::RunResult;
 using octtest::show;
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
-const std::string kCube = kMeshes + "/cube_binary.ply";  // the unit cube, 12 triangles
+using octtest::kCube;
+using octtest::kMeshes;
 
 class Robustness : public ::testing::Test {
 protected:

@@ -13,13 +13,15 @@
 #include <set>
 
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
+#include "tests/teach/page_data.h"
 
 namespace oct {
 namespace {
 
 using namespace octtest;
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+using octtest::kMeshes;
 
 // OCT_CHROMIUM, else the first of Debian's and other distributions' names on PATH.
 std::string findChromium() {
@@ -47,12 +49,7 @@ size_t count(const std::string& s, const std::string& what) {
     return n;
 }
 
-std::string dataOf(const std::string& page) {
-    const std::string open = "<script id=\"octrace-data\" type=\"application/json\">";
-    const size_t a = page.find(open);
-    const size_t b = page.find("</script>", a);
-    return a == std::string::npos ? "" : page.substr(a + open.size(), b - a - open.size());
-}
+using octtest::dataOf;
 
 TEST(ExplainPageInChromium, RendersTheSceneAndTheStepsWithoutErrors) {
     const std::string chromium = findChromium();

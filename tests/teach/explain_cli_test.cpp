@@ -10,13 +10,14 @@
 #include "core/io/npy.h"
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {
 
 using namespace octtest;
 
-const std::string kTeapot = OCT_SOURCE_DIR "/meshes/teapot.obj";
+using octtest::kTeapot;
 
 TEST(ExplainCli, CostsEqualRenderCostForEveryLayout) {
     TempDir dir("explain_cost");

@@ -16,11 +16,12 @@
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
 #include "teach/teach_error.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+using octtest::kMeshes;
 
 bool sameFloat(float a, float b) { return std::memcmp(&a, &b, 4) == 0; }
 

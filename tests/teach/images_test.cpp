@@ -12,11 +12,12 @@
 #include "teach/legend.h"
 #include "teach/overlay.h"
 #include "teach/teach_error.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+using octtest::kMeshes;
 
 bool same(Rgb8 a, Rgb8 b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
 

@@ -10,11 +10,13 @@
 #include "core/scene/load_scene.h"
 #include "teach/explain_page.h"
 #include "teach/viewer_script.h"
+#include "tests/paths.h"
+#include "tests/teach/page_data.h"
 
 namespace oct {
 namespace {
 
-const std::string kMeshes = OCT_SOURCE_DIR "/meshes";
+using octtest::kMeshes;
 
 Scene cube() {
     Scene s;
@@ -57,14 +59,7 @@ TEST(PageMesh, DecimatesLargeMeshesWithinTheBudget) {
     for (uint32_t i : m.indices) ASSERT_LT(i, m.positions.size() / 3);
 }
 
-// The JSON inside <script id="octrace-data" type="application/json">...</script>.
-std::string dataOf(const std::string& page) {
-    const std::string open = "<script id=\"octrace-data\" type=\"application/json\">";
-    const size_t a = page.find(open);
-    const size_t b = page.find("</script>", a);
-    if (a == std::string::npos || b == std::string::npos) return "";
-    return page.substr(a + open.size(), b - a - open.size());
-}
+using octtest::dataOf;
 
 TEST(ExplainPage, IsOneFileWhoseDataMatchesTheExplanation) {
     if (!viewerAvailable()) GTEST_SKIP() << "built with -DOCT_VIEWER=OFF";

@@ -12,6 +12,8 @@
 
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
+#include "tests/json_file.h"
+#include "tests/paths.h"
 
 namespace {
 
@@ -22,13 +24,10 @@ using oct::CostRow;
 using oct::CostTotals;
 using oct::CostVerdict;
 
-const std::string kRoot = OCT_SOURCE_DIR;
+using octtest::kRoot;
 const std::string kBaselines = OCT_SOURCE_DIR "/tests/data/cost_baselines.json";
 
-json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return json::parse(in);
-}
+using octtest::readJson;
 
 TEST(CostBaseline, CommittedBaselinesAreReproducedExactly) {
     const CostReport r = oct::checkCostBaselines(kBaselines, kRoot);

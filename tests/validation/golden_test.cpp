@@ -13,6 +13,8 @@
 #include "core/io/output_file.h"
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
+#include "tests/json_file.h"
+#include "tests/paths.h"
 #include "tests/validation/fixtures.h"
 #include "validation/ray_manifest.h"
 
@@ -24,13 +26,10 @@ using oct::GoldenReport;
 using oct::GoldenRow;
 using oct::ImageDiff;
 
-const std::string kRoot = OCT_SOURCE_DIR;
+using octtest::kRoot;
 const std::string kGolden = OCT_SOURCE_DIR "/tests/data/golden";
 
-json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return json::parse(in);
-}
+using octtest::readJson;
 
 // A copy of the golden folder listing only `file` (one image keeps the test fast).
 void copyOne(const fs::path& to, const std::string& file) {

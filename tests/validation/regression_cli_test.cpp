@@ -10,6 +10,7 @@
 
 #include "core/io/output_file.h"
 #include "tests/cli_harness.h"
+#include "tests/json_file.h"
 #include "validation/golden.h"
 
 namespace {
@@ -25,10 +26,7 @@ RunResult run(const std::vector<std::string>& args) {
     return octtest::runOctrace(args, capture.path(), opt);
 }
 
-json readJson(const fs::path& p) {
-    std::ifstream in(p);
-    return json::parse(in);
-}
+using octtest::readJson;
 
 class RegressionCli : public ::testing::Test {
 protected:

@@ -14,12 +14,13 @@
 #include <string>
 
 #include "tests/cli_harness.h"
+#include "tests/paths.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kCube = OCT_SOURCE_DIR "/meshes/cube_binary.ply";
+using octtest::kCube;
 
 using octtest::quote;
 using octtest::RunResult;
