@@ -23,26 +23,9 @@ struct RaysOptions {
     float radius = 0.0f;
     std::string sets = "all", out, triangles;
     uint64_t count = 30000, seed = 1;
-    std::string size = "256x256", eye, target, up, light;
-    float fov = 45.0f;
+    CameraChoice camera;  // the camera and shadow sets: render's options, at 256x256
+    RaysOptions() { camera.size = "256x256"; }
 };
-
-std::optional<Vec3> optionalVec3(const char* option, const std::string& text) {
-    if (text.empty()) return std::nullopt;
-    return parseVec3(option, text);
-}
-
-CameraOptions cameraOptions(const RaysOptions& o) {
-    CameraOptions c;
-    parseImageSize(o.size, c.width, c.height);
-    c.eye = optionalVec3("--eye", o.eye);
-    c.target = optionalVec3("--target", o.target);
-    c.up = optionalVec3("--up", o.up);
-    c.light = optionalVec3("--light", o.light);
-    c.fovDegrees = o.fov;
-    makeFrame({{-1, -1, -1}, {1, 1, 1}}, c);  // the options' own errors, before loading
-    return c;
-}
 
 // --set: names or "all" (every set; on a point cloud, those that need no triangles).
 std::vector<RaySetKind> parseSets(const std::string& text, const Scene& scene,
@@ -77,7 +60,7 @@ std::vector<RaySetKind> parseSets(const std::string& text, const Scene& scene,
 
 void runRays(const RaysOptions& o) {
     RaySetSpec spec;
-    spec.camera = cameraOptions(o);
+    spec.camera = cameraOptions(o.camera);
     spec.count = o.count;
     spec.seed = o.seed;
     if (o.count > kMaxRays)
@@ -157,12 +140,7 @@ void registerRays(CLI::App& app) {
     cmd->add_option("--out", o->out, "Ray file R.npy; the manifest goes to R.json")->required();
     cmd->add_option("--triangles", o->triangles,
                     "Also write the triangles as octrace numbers them: float32 (M, 9) .npy");
-    cmd->add_option("--size", o->size, "Camera set: image size WxH")->capture_default_str();
-    cmd->add_option("--eye", o->eye, "Camera position x,y,z (default: framed as render)");
-    cmd->add_option("--target", o->target, "Point looked at x,y,z");
-    cmd->add_option("--up", o->up, "Up vector x,y,z (default 0,1,0)");
-    cmd->add_option("--fov", o->fov, "Vertical field of view, degrees")->capture_default_str();
-    cmd->add_option("--light", o->light, "Point light x,y,z (shadow set)");
+    addCameraOptions(*cmd, o->camera);  // --size, --eye, --target, --up, --fov, --light
     cmd->callback([o] { runRays(*o); });
 }
 
