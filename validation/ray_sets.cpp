@@ -336,7 +336,13 @@ void grazing(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             g = r - nrm * dot(r, nrm);
         } while (!(norm(g) > 1e-3));
         g = g * (1.0 / norm(g));
-        double s = kCos[rng.below(5)] * rng.range(0.5, 1.0) * (rng.below(2) ? 1.0 : -1.0);
+        // Three draws, one statement each: the operands of one expression may be evaluated in
+        // any order, so a product of draws gave compiler-chosen rays. This is the order GCC 12
+        // took, so the bytes (and the pinned checksum) are unchanged.
+        const double cosine = kCos[rng.below(5)];
+        const double scale = rng.range(0.5, 1.0);
+        const double sign = rng.below(2) ? 1.0 : -1.0;
+        double s = cosine * scale * sign;
         D3 dd = g * std::sqrt(1.0 - s * s) + nrm * s;
         const Vec3 d = {float(dd.x), float(dd.y), float(dd.z)};
         const float r = float(longestSide(tri) * rng.range(1.0, 2.0));
