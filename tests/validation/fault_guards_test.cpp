@@ -13,17 +13,8 @@
 namespace oct {
 namespace {
 
+using octtest::cpuTracer;
 using octtest::meshPath;
-
-TracerUnderTest linearTracer(const std::string& name, const LinearOctreeView& view,
-                             const PrimitivesView& prims) {
-    return {name, "cpu",
-            [view, prims](const FrameParams& p, Film& f) {
-                f = Film(p.width, p.height);
-                renderFrameCpu(p, view, prims, f.view());
-            },
-            [view](RayBatchView b) { traceRaysCpu(view, b); }, NodeLookupFn{}};
-}
 
 // A hash octree that lost one leaf (its slot removed from its bucket, as a probe that stops
 // early would lose it): a tiny frame and no ray set never reach it, the structural check does.
@@ -44,12 +35,7 @@ TEST(FaultGuards, HashLeafNoRayReachesFailsTheStructureCheck) {
 
     const PrimitivesView prims = primitivesView(scene);
     const HashOctreeView view = hashView(hash, tree, prims);
-    TracerUnderTest bad{"hash-lost-leaf", "cpu",
-                        [view, prims](const FrameParams& p, Film& f) {
-                            f = Film(p.width, p.height);
-                            renderFrameCpu(p, view, prims, f.view());
-                        },
-                        [view](RayBatchView rb) { traceRaysCpu(view, rb); }, NodeLookupFn{}};
+    TracerUnderTest bad = cpuTracer("hash-lost-leaf", view, prims);
     ValidateOptions o = octtest::smallOptions(4, 0);
     o.replication = false;
     o.lightInside = false;
@@ -101,7 +87,7 @@ TEST(FaultGuards, CorruptLinearRecordsCannotCycleAndFailTheStructureCheck) {
     EXPECT_LE(cost.nodesVisited, lin.nodes.size());
     ValidateOptions o = octtest::smallOptions(16, 300);
     o.replication = false;
-    TracerUnderTest t = linearTracer("corrupt", view, prims);
+    TracerUnderTest t = cpuTracer("corrupt", view, prims);
     t.lookup = [view](uint64_t k) { return lookupNode(view, k); };
     ValidationReport rep = validateScene(scene, {t}, &tree, o);
     EXPECT_FALSE(rep.passes());
@@ -167,12 +153,7 @@ TEST(FaultGuards, AnyHitIgnoringTmaxFailsWithTheLightInside) {
     LinearOctree lin = buildLinear(tree);
     const PrimitivesView prims = primitivesView(scene);
     const TmaxIgnoringAccel accel{linearView(lin, tree, prims)};
-    TracerUnderTest bad{"anyhit-beyond-tmax", "cpu",
-                        [accel, prims](const FrameParams& p, Film& f) {
-                            f = Film(p.width, p.height);
-                            renderFrameCpu(p, accel, prims, f.view());
-                        },
-                        [accel](RayBatchView b) { traceRaysCpu(accel, b); }, NodeLookupFn{}};
+    TracerUnderTest bad = cpuTracer("anyhit-beyond-tmax", accel, prims);
     ValidateOptions o = octtest::smallOptions(32, 0);
     o.replication = false;
     o.lightInside = false;

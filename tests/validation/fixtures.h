@@ -64,4 +64,17 @@ inline oct::ValidateOptions smallOptions(int side = 64, uint64_t rays = 3000) {
     return o;
 }
 
+// A tracer under test from any accelerator view (a layout's, or one corrupted on purpose) on the
+// OpenMP launcher, without a structural lookup.
+template <class Accel>
+oct::TracerUnderTest cpuTracer(const std::string& name, const Accel& accel,
+                               const oct::PrimitivesView& prims) {
+    return {name, "cpu",
+            [accel, prims](const oct::FrameParams& p, oct::Film& f) {
+                f = oct::Film(p.width, p.height);
+                oct::renderFrameCpu(p, accel, prims, f.view());
+            },
+            [accel](oct::RayBatchView b) { oct::traceRaysCpu(accel, b); }, oct::NodeLookupFn{}};
+}
+
 }  // namespace octtest

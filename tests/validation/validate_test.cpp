@@ -121,12 +121,7 @@ TEST_F(Corruption, EmptiedLinearLeafFailsAndNamesPixels) {
     lin.nodes[linearIndexOfKey(tree.nodes[leaf].key)].primCount = 0;  // the corruption
     PrimitivesView prims = primitivesView(scene);
     LinearOctreeView view = linearView(lin, tree, prims);
-    TracerUnderTest bad{"linear-corrupted", "cpu",
-                        [&](const FrameParams& p, Film& f) {
-                            f = Film(p.width, p.height);
-                            renderFrameCpu(p, view, prims, f.view());
-                        },
-                        [&](RayBatchView b) { traceRaysCpu(view, b); }, NodeLookupFn{}};
+    TracerUnderTest bad = octtest::cpuTracer("linear-corrupted", view, prims);
     ValidateOptions o = opt;
     o.replication = false;
     ValidationReport rep = validateScene(scene, {bad}, nullptr, o);
