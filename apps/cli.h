@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "backends/backend.h"
+#include "backends/backend_list.h"
 #include "core/octree/layout_registry.h"
 #include "core/render/frame.h"
 #include "core/scene/scene.h"

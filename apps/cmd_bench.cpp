@@ -44,7 +44,8 @@ const char* kQuickMeshes[] = {"cornell_box.obj", "teapot.obj"};
 struct BenchOptions {
     bool quick = false;
     std::string out = "bench/results/latest";
-    TraceChoice trace{"", "cpu,embree"};  // accel empty: every layout; cuda added with a device
+    // accel empty: every layout; the device backend (cuda) is added when one answers.
+    TraceChoice trace{"", std::string(hostBackend().name) + "," + referenceBackend().name};
     std::string clouds = kDefaultClouds;
     std::string meshes;  // empty: the defaults found under meshesDir
     std::string meshesDir;

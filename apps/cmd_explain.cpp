@@ -16,7 +16,7 @@ namespace {
 
 struct ExplainOptions {
     SceneOptions scene;
-    std::string accel = "linear";
+    std::string accel = kDefaultLayout;
     CameraChoice camera;
     std::string pixel, ray, json, html;
 };

@@ -17,7 +17,7 @@ namespace {
 
 struct RenderOptions {
     SceneOptions scene;
-    TraceChoice trace{"linear", "auto"};
+    TraceChoice trace{kDefaultLayout, "auto"};
     std::string out, depthOut, primOut, costOut;
     CameraChoice camera;
     bool compareEmbree = false;
@@ -105,8 +105,7 @@ void checkTeachOptions(const RenderOptions& o, const BackendDesc& backend) {
 // of docs/VALIDATION.md; `octrace validate` classifies the mismatches further).
 void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Film& film) {
     Film truth;
-    std::string note;
-    renderWith(resolveBackend("embree", note), bareScene(scene), frame, truth);
+    renderWith(referenceBackend(), bareScene(scene), frame, truth);
     FilmComparison c = compareFilms(film, truth, sceneExtent(scene));
     std::printf(
         "embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "

@@ -16,7 +16,7 @@ namespace {
 struct TraceOptions {
     SceneOptions scene;
     std::string rays, out;
-    TraceChoice trace{"linear", "auto"};
+    TraceChoice trace{kDefaultLayout, "auto"};
 };
 
 void runTrace(const TraceOptions& o) {

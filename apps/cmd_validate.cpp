@@ -28,7 +28,7 @@ constexpr uint64_t kMaxValidateRays = 100000000;
 
 struct ValidateCliOptions {
     SceneOptions scene;
-    TraceChoice trace{"linear,hash", "cpu"};
+    TraceChoice trace{kDefaultLayouts, hostBackend().name};
     std::string size = "256x256";
     uint64_t rays = ValidateOptions{}.rays;
     uint64_t seed = ValidateOptions{}.seed;

@@ -1,8 +1,9 @@
-// The one list of backends. Adding one: implement SceneTracer in its own folder, declare its
-// BackendDesc there, and add it below.
+// The one list of backends. Adding one: implement SceneTracer (core/backend/backend.h) in its
+// own folder, declare a function returning its BackendDesc there, and add it below.
+#include "backends/backend_list.h"
+
 #include <stdexcept>
 
-#include "backends/backend.h"
 #include "cpu_ref/cpu_backend.h"
 #include "cpu_ref/embree_backend.h"
 #include "cpu_ref/embree_fast_backend.h"
@@ -30,20 +31,27 @@ std::string backendNames() {
     return s;
 }
 
-namespace {
-
-const BackendDesc* lookup(const std::string& name) {
+const BackendDesc* findBackend(const std::string& name) {
     for (const BackendDesc& b : backends())
         if (name == b.name) return &b;
     return nullptr;
 }
 
-}  // namespace
+const BackendDesc& hostBackend() {
+    static const BackendDesc& host = *findBackend("cpu");
+    return host;
+}
+
+const BackendDesc& referenceBackend() {
+    for (const BackendDesc& b : backends())
+        if (b.reference) return b;
+    throw std::logic_error("the backend list has no reference backend");
+}
 
 const BackendDesc& resolveBackend(const std::string& name, std::string& note) {
     if (name == "auto") {
         // An accelerator when one answers (the kernel is the same), else the CPU.
-        const BackendDesc& cpu = *lookup("cpu");
+        const BackendDesc& cpu = hostBackend();
         for (const BackendDesc& b : backends()) {
             if (!b.device) continue;
             std::string why;
@@ -54,7 +62,7 @@ const BackendDesc& resolveBackend(const std::string& name, std::string& note) {
         note = "auto backend: cpu (built without CUDA)";
         return cpu;
     }
-    const BackendDesc* b = lookup(name);
+    const BackendDesc* b = findBackend(name);
     if (!b) {
         if (name == "cuda")
             throw std::runtime_error(
@@ -66,27 +74,6 @@ const BackendDesc& resolveBackend(const std::string& name, std::string& note) {
     std::string why;
     if (!b->available(why)) throw std::runtime_error("--backend " + name + ": " + why);
     return *b;
-}
-
-void countRays(const Film& film, uint64_t& primary, uint64_t& shadow) {
-    primary = film.pixelCount();
-    shadow = 0;
-    for (uint8_t s : film.shadow) shadow += s != kNoShadowRay;
-}
-
-FrameRun renderWith(const BackendDesc& backend, const BuiltScene& scene, const FrameParams& frame,
-                    Film& film, int warmup, int repeats) {
-    std::unique_ptr<SceneTracer> tracer = backend.prepare(scene);
-    FrameRun run;
-    run.prepareSeconds = tracer->prepareSeconds();
-    run.buildSeconds = backend.usesLayouts ? scene.buildSeconds() : run.prepareSeconds;
-    run.frameSeconds = tracer->render(frame, film, warmup, repeats);
-    countRays(film, run.primaryRays, run.shadowRays);
-    return run;
-}
-
-double traceWith(const BackendDesc& backend, const BuiltScene& scene, RayBatchView batch) {
-    return backend.prepare(scene)->trace(batch);
 }
 
 }  // namespace oct

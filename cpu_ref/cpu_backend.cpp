@@ -18,7 +18,10 @@ public:
             scene_.visit([&](const auto& view) { renderFrameCpu(frame, view, prims, fv); });
         });
     }
-    double trace(RayBatchView batch) override { return traceCpu(scene_, batch); }
+    double trace(RayBatchView batch) override {
+        return timeFrames(
+            0, 1, [&] { scene_.visit([&](const auto& view) { traceRaysCpu(view, batch); }); })[0];
+    }
 
 private:
     const BuiltScene& scene_;
@@ -36,10 +39,13 @@ std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
 }  // namespace
 
 BackendDesc cpuBackend() {
-    return {"cpu",   "the core kernel on the host, OpenMP over pixels or rays",
-            true,    nullptr,
-            false,   &alwaysAvailable,
-            &prepare};
+    BackendDesc d;
+    d.name = "cpu";
+    d.summary = "the core kernel on the host, OpenMP over pixels or rays";
+    d.usesLayouts = true;
+    d.available = &alwaysAvailable;
+    d.prepare = &prepare;
+    return d;
 }
 
 }  // namespace oct

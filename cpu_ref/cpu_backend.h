@@ -1,7 +1,7 @@
 // The OpenMP backend: our layouts, traced by the core kernel in an OpenMP loop.
 #pragma once
 
-#include "backends/backend.h"
+#include "core/backend/backend.h"
 
 namespace oct {
 

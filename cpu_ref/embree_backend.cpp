@@ -32,10 +32,15 @@ std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
 }  // namespace
 
 BackendDesc embreeBackend() {
-    return {"embree", "ground truth: Embree's robust BVH answers the kernel's hit queries",
-            false,    "embree-bvh",
-            false,    &alwaysAvailable,
-            &prepare};
+    BackendDesc d;
+    d.name = "embree";
+    d.summary = "ground truth: Embree's robust BVH answers the kernel's hit queries";
+    d.usesLayouts = false;
+    d.structure = "embree-bvh";
+    d.reference = true;
+    d.available = &alwaysAvailable;
+    d.prepare = &prepare;
+    return d;
 }
 
 }  // namespace oct

@@ -2,7 +2,7 @@
 // answers the kernel's hit queries; shading is the core kernel's.
 #pragma once
 
-#include "backends/backend.h"
+#include "core/backend/backend.h"
 #include "cpu_ref/embree_tracer.h"
 
 namespace oct {

@@ -17,11 +17,14 @@ std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
 }  // namespace
 
 BackendDesc embreeFastBackend() {
-    return {
-        "embree-fast", "Embree in its default (non-robust) mode: a third-party tracer to certify",
-        false,         "embree-bvh-fast",
-        false,         &alwaysAvailable,
-        &prepare};
+    BackendDesc d;
+    d.name = "embree-fast";
+    d.summary = "Embree in its default (non-robust) mode: a third-party tracer to certify";
+    d.usesLayouts = false;
+    d.structure = "embree-bvh-fast";
+    d.available = &alwaysAvailable;
+    d.prepare = &prepare;
+    return d;
 }
 
 }  // namespace oct

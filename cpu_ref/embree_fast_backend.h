@@ -3,7 +3,7 @@
 // judges (docs/CERTIFY.md). Embree builds its own BVH; shading is the core kernel's.
 #pragma once
 
-#include "backends/backend.h"
+#include "core/backend/backend.h"
 
 namespace oct {
 

@@ -44,9 +44,4 @@ std::vector<double> timeFrames(int warmup, int repeats, F&& frame) {
     return times;
 }
 
-// Renders with the built layout on the CPU; returns the frame time in seconds.
-double renderCpu(const FrameParams& p, const BuiltScene& scene, Film& film);
-// Closest hits of a batch with the built layout on the CPU; returns seconds.
-double traceCpu(const BuiltScene& scene, RayBatchView batch);
-
 }  // namespace oct

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "core/octree/skip_reasons.h"
 #include "core/render/kernel.h"
 #include "teach/teach_error.h"
 
@@ -379,19 +380,6 @@ std::string idList(const std::vector<uint32_t>& ids) {
     return s;
 }
 
-const char* skipText(SkipReason why) {
-    switch (why) {
-        case SkipReason::Empty:
-            return "empty leaf: nothing to hit";
-        case SkipReason::Absent:
-            return "no node stored there";
-        case SkipReason::BeyondHit:
-            return "beyond the closest hit";
-        default:
-            return "missed";
-    }
-}
-
 std::string stepNo(size_t i) { return fmt("%6.0f", double(i + 1)); }
 
 std::string keyCol(uint64_t key) {
@@ -429,7 +417,7 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
             }
             case StepEvent::Skip:
                 add(i + 1, s.key, -1,
-                    stepNo(i) + "  skip   " + keyCol(s.key) + " " + skipText(s.why));
+                    stepNo(i) + "  skip   " + keyCol(s.key) + " " + skipReasonText(s.why));
                 ++i;
                 break;
             case StepEvent::Pop:
@@ -622,14 +610,13 @@ std::string explainJson(const Explanation& e) {
                         js["t_enter"] = tnum(s.t0);
                         js["t_exit"] = tnum(s.t1);
                     }
-                    if (!s.hit)
-                        js["why"] = s.why == SkipReason::BeyondHit ? "beyond_hit" : "missed";
+                    if (!s.hit) js["why"] = skipReasonKey(s.why);
                     if (!s.hit && s.why == SkipReason::BeyondHit) js["closest_t"] = tnum(s.bestT);
                     break;
                 case StepEvent::Skip:
                     js["event"] = "skip";
                     js["key"] = keyOctal(s.key);
-                    js["why"] = s.why == SkipReason::Empty ? "empty" : "absent";
+                    js["why"] = skipReasonKey(s.why);
                     break;
                 case StepEvent::Pop:
                     js["event"] = "pop";

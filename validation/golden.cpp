@@ -8,11 +8,10 @@
 #include <fstream>
 #include <memory>
 
+#include "backends/backend_list.h"
 #include "core/io/output_file.h"
 #include "core/octree/built_scene.h"
 #include "core/scene/load_scene.h"
-#include "cpu_ref/embree_backend.h"
-#include "cpu_ref/render_cpu.h"
 #include "validation/ray_manifest.h"
 #include "validation/report_util.h"
 
@@ -133,14 +132,15 @@ std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
     for (const LayoutDesc& l : layouts()) {
         TracedFrame f;
         f.tracer = l.name;
-        renderCpu(frame, convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts), f.film);
+        renderWith(hostBackend(), convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts),
+                   frame, f.film);
         out.push_back(std::move(f));
     }
     if (embree) {
         TracedFrame f;
-        f.tracer = "embree";
+        f.tracer = referenceBackend().name;
         f.usesLayouts = false;
-        EmbreeSceneTracer(bareScene(scene)).render(frame, f.film);
+        renderWith(referenceBackend(), bareScene(scene), frame, f.film);
         out.push_back(std::move(f));
     }
     return out;

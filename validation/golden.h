@@ -36,10 +36,11 @@ struct RegressionRender {
 RegressionRender regressionRenderFromJson(const nlohmann::json& j, const std::string& file);
 nlohmann::json toJson(const RegressionRender& r);
 
-// One frame of a scene per tracer: every layout of the registry through the OpenMP kernel, in
-// registry order (tracer = the layout's name), then, with `embree`, Embree's hits shaded by
-// the same kernel (tracer "embree"). `scene` is resolved against `root` unless it is a
-// generator spec; a missing file is an error naming the listing `file` and the root.
+// One frame of a scene per tracer: every layout of the registry on the host backend (the
+// backend list's), in registry order (tracer = the layout's name), then, with `embree`, the
+// reference backend's hits shaded by the same kernel (tracer = its name). `scene` is resolved
+// against `root` unless it is a generator spec; a missing file is an error naming the listing
+// `file` and the root.
 struct TracedFrame {
     std::string tracer;
     bool usesLayouts = true;  // false: Embree (no traversal cost of ours)

@@ -242,7 +242,7 @@ void BM_LinearChild(benchmark::State& state) {
     size_t i = 0, k = 0;
     NoObserver none;
     for (auto _ : state) {
-        const OctreeNode* at = v.nodes + f.parents[i];
+        const OctreeNode* at = v.nodes.data + f.parents[i];
         const OctreeNode* c = v.child(at, at->key, int(k++ & 7), none);
         if (++i == f.parents.size()) i = 0;
         uint8_t type = c->type;

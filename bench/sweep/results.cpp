@@ -4,7 +4,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "backends/backend.h"
+#include "backends/backend_list.h"
 #include "core/io/output_file.h"
 #include "core/time_spread.h"
 

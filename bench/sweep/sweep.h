@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "backends/backend.h"
+#include "backends/backend_list.h"
 
 namespace oct {
 

@@ -7,7 +7,6 @@
 #include "core/geometry/aabb.h"
 #include "core/geometry/primitives.h"
 #include "core/geometry/ray.h"
-#include "core/scene/scene.h"
 
 namespace oct {
 

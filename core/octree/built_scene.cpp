@@ -11,15 +11,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
-PrimitivesView primitivesView(const Scene& scene) {
-    PrimitivesView v{};
-    v.kind = scene.kind;
-    v.count = scene.primitiveCount();
-    v.tris = scene.kind == PrimKind::Triangles ? scene.triangles.data() : nullptr;
-    v.spheres = scene.kind == PrimKind::Spheres ? scene.spheres.data() : nullptr;
-    return v;
-}
-
 std::shared_ptr<const Octree> buildSharedOctree(const Scene& scene, const BuildParams& params) {
     return std::make_shared<const Octree>(buildOctree(scene, params));
 }

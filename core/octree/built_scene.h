@@ -9,8 +9,6 @@
 
 namespace oct {
 
-PrimitivesView primitivesView(const Scene& scene);
-
 // The Scene must outlive it.
 struct BuiltScene {
     const Scene* scene = nullptr;
@@ -27,8 +25,11 @@ struct BuiltScene {
     // Calls f with the layout's typed View over host memory.
     template <class F>
     void visit(F&& f) const {
-        visitLayoutView(*layout, storage.arrays, prims(), f);
+        visitLayoutView(*layout, storage, f);
     }
+    // The node with Morton key `key` as the layout's traversal finds it (validate's structural
+    // check); not found for a layout without an octree.
+    NodeLookup lookupNode(uint64_t key) const { return layout->lookup(storage, key); }
 };
 
 // The canonical octree, shareable between layouts.

@@ -16,14 +16,13 @@
 //   would compute for the child's box, so the decisions are the slab test's own.
 // - Front to back with early exit: children are pushed far to near, a popped node entered
 //   beyond the closest hit is dropped, any-hit queries stop at the first hit.
+// Device code only; converting the canonical octree is compact_layout.h.
 #pragma once
 
 #include <cstdint>
-#include <cstring>
 #include <type_traits>
-#include <vector>
 
-#include "core/octree/layout.h"
+#include "core/octree/array_span.h"
 #include "core/octree/morton.h"
 #include "core/octree/traversal.h"
 
@@ -77,16 +76,24 @@ OCT_HD inline Aabb dequantize(const QuantBounds& qb, const Aabb& cell) {
     return b;
 }
 
+// 104 bytes.
 struct CompactOctreeView {
-    const CompactNode* nodes;     // 8 bytes; root at 0
-    const uint32_t* primIndices;  // 8 bytes: the global leaf index array
-    uint64_t primIndexCount;      // 8 bytes: its entries (bounds checks in traversal)
-    PrimitivesView prims;         // 24 bytes
-    Aabb rootBox;                 // 24 bytes: the canonical root cube
-    uint32_t rootIsLeaf;          // 4 bytes: 1 when the whole tree is one leaf
-    uint32_t nodeCount;           // 4 bytes
-    const QuantBounds* bounds;    // 8 bytes: per record; null: cells only
+    ArraySpan<CompactNode> nodes;     // 16 bytes; root at 0, breadth first
+    ArraySpan<uint32_t> primIndices;  // 16 bytes: the global leaf index array
+    ArraySpan<QuantBounds> bounds;    // 16 bytes: per record; none: cells only
+    PrimitivesView prims;             // 24 bytes
+    Aabb rootBox;                     // 24 bytes: the canonical root cube
+    uint32_t rootIsLeaf;              // 4 bytes: 1 when the whole tree is one leaf (+4 padding)
+
+    // The arrays, each once (layout.h): host view, CUDA upload and byte count derive from it.
+    template <class V, class F>
+    static void forEachArray(V& v, F&& f) {
+        f("the compact octree's nodes", v.nodes);
+        f("the leaf index list", v.primIndices);
+        f("the compact octree's bounds", v.bounds);
+    }
 };
+static_assert(sizeof(CompactOctreeView) == 104, "CompactOctreeView byte layout is given above");
 static_assert(std::is_trivially_copyable<CompactOctreeView>::value, "views are passed by value");
 
 // --- traversal ---------------------------------------------------------------------------------
@@ -246,7 +253,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         (r.dir.x < 0.0f ? 1 : 0) | (r.dir.y < 0.0f ? 2 : 0) | (r.dir.z < 0.0f ? 4 : 0);
     float t0, t1;
     ++cost.nodesVisited;
-    if (v.nodeCount == 0) {
+    if (v.nodes.count == 0) {
         obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
     }
@@ -268,26 +275,20 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         }
         // The geometry's bounds within the cell: a ray that crosses the cell but misses them
         // meets nothing stored below it.
-        if (v.bounds) {
-            const Aabb tight = dequantize(loadReadOnly(v.bounds + e.index), e.box);
+        if (v.bounds.count != 0) {
+            const Aabb tight = dequantize(loadReadOnly(v.bounds.data + e.index), e.box);
             if (!intersectBox(q.slabs, tight, r.tmin, best.t, t0, t1)) {
                 obs.childSkipped(e.key(), SkipReason::OutsideBounds);
                 continue;
             }
         }
         obs.nodePopped(e.key(), e.tEnter, true);
-        const CompactNode n = loadReadOnly(v.nodes + e.index);
+        const CompactNode n = loadReadOnly(v.nodes.data + e.index);
         if (e.leaf) {
-            const uint32_t offset = n.primOffset(), count = n.primCount();
-            for (uint32_t k = 0; k < count; ++k) {
-                // Bounds: a corrupted record must fail the check, never read past the arrays.
-                const uint64_t at = uint64_t(offset) + k;
-                if (at >= v.primIndexCount) return faultHit();
-                const uint32_t prim = loadReadOnly(v.primIndices + at);
-                if (prim >= v.prims.count) return faultHit();
-                considerPrimitive(v.prims, prim, q, best, cost, obs);
-                if (kAnyHit && best.prim >= 0) return best;
-            }
+            const LeafOutcome out = testLeafList<kAnyHit>(
+                v.primIndices, n.primOffset(), n.primCount(), v.prims, q, best, cost, obs);
+            if (out == LeafOutcome::Fault) return faultHit();
+            if (out == LeafOutcome::Found) return best;
             continue;
         }
         const uint32_t mask = n.childMask(), leafMask = n.leafMask();
@@ -323,7 +324,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             c.box = childBox(e.box, i);
             c.tEnter = enter[i];
             c.index = compactChildIndex(n, i);
-            if (c.index <= e.index || c.index >= v.nodeCount) return faultHit();
+            if (c.index <= e.index || c.index >= v.nodes.count) return faultHit();
             c.leaf = (leafMask >> i) & 1u;
             c.setKey(childKey(e.key(), i), e.depth() + 1);
         }
@@ -347,87 +348,5 @@ OCT_HD inline bool anyHit(const CompactOctreeView& v, const Ray& r, TraceCost& c
     NoObserver none;
     return traverseCompact<true>(v, r, cost, none).prim != -1;
 }
-
-// The node with Morton key `key` as traversal finds it: from record 0 and the root box, one
-// step per octant digit through childMask, leafMask and compactChildIndex, the box halved by
-// childBox (node_lookup.h). Empty leaves are not stored: found = false. Host only.
-inline NodeLookup lookupNode(const CompactOctreeView& v, uint64_t key) {
-    NodeLookup out;
-    if (v.nodeCount == 0) return out;
-    uint32_t index = 0;
-    bool leaf = v.rootIsLeaf != 0;
-    Aabb box = v.rootBox;
-    for (int d = keyDepth(key) - 1; d >= 0; --d) {
-        if (leaf) return out;
-        const CompactNode n = v.nodes[index];
-        const int octant = int((key >> (3 * d)) & 7u);
-        if (!((n.childMask() >> octant) & 1u)) return out;
-        const uint32_t next = compactChildIndex(n, octant);
-        if (next <= index || next >= v.nodeCount) {
-            out.broken = true;
-            return out;
-        }
-        index = next;
-        leaf = (n.leafMask() >> octant) & 1u;
-        box = childBox(box, octant);
-    }
-    out.found = true;
-    out.box = box;
-    out.type = leaf ? NodeType::Leaf : NodeType::Internal;
-    if (leaf) {
-        const CompactNode n = v.nodes[index];
-        if (uint64_t(n.primOffset()) + n.primCount() > v.primIndexCount) {
-            out.broken = true;
-            return out;
-        }
-        out.list = v.primIndices + n.primOffset();
-        out.count = n.primCount();
-    }
-    return out;
-}
-
-// --- host ------------------------------------------------------------------------------------
-
-struct CompactOctree {
-    std::vector<CompactNode> nodes;   // root at 0, children adjacent (breadth first)
-    std::vector<QuantBounds> bounds;  // per record; empty when built without bounds
-    Aabb rootBox{};
-    bool rootIsLeaf = false;
-};
-
-// Converts the canonical octree: internal nodes and non-empty leaves, in breadth-first order.
-// The leaf lists stay in the canonical tree's primIndices (shared). With `scene`, also the
-// quantised bounds of what each record's cell holds (leaf: its triangles clipped to the cell,
-// its spheres' boxes cut to the cell; internal: the union of its children's), rounded outwards.
-CompactOctree buildCompact(const Octree& tree, const Scene* scene = nullptr);
-CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, PrimitivesView prims);
-
-// Registry entry. Arrays: 0 the node records, 1 the leaf index list, 2 the quantised bounds;
-// scalars: 0..2 the root box (six floats, two a scalar), 3 rootIsLeaf.
-struct CompactLayout {
-    static constexpr const char* kName = "compact";
-    static constexpr const char* kSummary =
-        "beyond the paper: 8-byte child descriptors, derived boxes, parametric front-to-back";
-    static constexpr bool kUsesOctree = true;
-    using View = CompactOctreeView;
-
-    static LayoutStorage convert(const Scene&, const std::shared_ptr<const Octree>& tree,
-                                 const LayoutOptions& o);
-    static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
-    static View view(const LayoutArrays& a, PrimitivesView prims) {
-        View v;
-        v.nodes = a.array<CompactNode>(0);
-        v.primIndices = a.array<uint32_t>(1);
-        v.primIndexCount = a.count<uint32_t>(1);
-        v.prims = prims;
-        float box[6];
-        std::memcpy(box, a.scalars, sizeof box);
-        v.rootBox = {{box[0], box[1], box[2]}, {box[3], box[4], box[5]}};
-        v.rootIsLeaf = uint32_t(a.scalars[3]);
-        v.nodeCount = uint32_t(a.count<CompactNode>(0));
-        v.bounds = a.array<QuantBounds>(2);
-        return v;
-    }
-};
 
 }  // namespace oct

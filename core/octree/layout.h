@@ -1,26 +1,30 @@
 // What every acceleration layout provides, so that one list (layout_registry.h) names them all
-// and nothing outside core/ switches on a layout.
+// and nothing outside core/ switches on a layout. Host code.
 //
-// A layout is a struct of static members (see exhaustive_layout.h, linear_octree.h,
-// hash_octree.h):
-//   kName, kSummary              its --accel name and a one-line description for help texts
-//   kUsesOctree                  whether it is converted from the canonical octree
-//   using View = ...             the plain, trivially copyable struct its kernels receive
-//   convert(scene, tree, options) host: the layout's arrays (LayoutStorage), from the canonical
-//                                octree (null when kUsesOctree is false) over the scene's
-//                                primitives; throws OctreeError naming the bytes when a budget
-//                                is exceeded
-//   report(scene, tree, options) host: its size and shape for `octrace info`, without
-//                                allocating more than convert() would
-//   view(arrays, prims)          builds the View from a LayoutArrays of host or device pointers
-// and the traversal overloads closestHit(View, Ray, TraceCost&) / anyHit(View, Ray, TraceCost&).
+// A layout is two parts:
+//  - its View (the kernel header, device code only: NAME_octree.h, exhaustive.h): a plain,
+//    trivially copyable struct of typed arrays (ArraySpan, array_span.h), scalars and the
+//    scene's PrimitivesView `prims`, with the closestHit/anyHit overloads the kernel calls and
+//    a static forEachArray(view, f) that names each array once: f("what it holds", span).
+//    The View *is* the layout's storage with pointers into one memory: the host builds it over
+//    its vectors, the CUDA launcher copies it with every span re-pointed to device memory
+//    (rebindArrays), and the layout's bytes are the spans' sum (arrayBytes).
+//  - its registry entry (the host file, NAME_layout.h): kName, kSummary, kUsesOctree,
+//    kSkipReasons (every SkipReason its traversal reports to an observer), `using View`,
+//    convert(scene, tree, options) -> LayoutStorage (the View over arrays it owns) and
+//    report(scene, tree, options) -> LayoutReport (its size and shape for `octrace info`,
+//    allocating no more than convert would), and a host lookupNode(View, key) overload
+//    (node_lookup.h) for validate's structural check.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "core/geometry/primitives_view.h"
+#include "core/octree/array_span.h"
 #include "core/octree/octree.h"
 
 namespace oct {
@@ -44,32 +48,6 @@ struct LayoutOptions {
     uint64_t linearBudget = kDefaultLinearBudget;
 };
 
-// One array of a layout: host or device memory, `bytes` long.
-struct LayoutArray {
-    const void* data;  // 8 bytes
-    uint64_t bytes;    // 8 bytes
-};
-
-// A layout's arrays and scalars as plain values. The host fills it with its own vectors'
-// pointers (LayoutStorage); the CUDA launcher uploads each array and fills a copy with device
-// pointers. Each layout fixes what its slots mean (e.g. linear: array 0 nodes, array 1 the
-// leaf index list). 96 bytes: 4 x 16 bytes of arrays, 4 x 8 bytes of scalars.
-struct LayoutArrays {
-    static constexpr int kMaxArrays = 4;
-    static constexpr int kMaxScalars = 4;
-    LayoutArray arrays[kMaxArrays];
-    uint64_t scalars[kMaxScalars];
-
-    template <class T>
-    const T* array(int i) const {
-        return static_cast<const T*>(arrays[i].data);
-    }
-    template <class T>
-    uint64_t count(int i) const {
-        return arrays[i].bytes / sizeof(T);
-    }
-};
-
 // A figure of a layout's shape, for `octrace info` (JSON key and value): a count or bytes
 // (exact, 64-bit) or a real number.
 struct LayoutFact {
@@ -89,25 +67,62 @@ struct LayoutReport {
     double convertSeconds = 0.0;
 };
 
-// A converted layout on the host: `owner` keeps the arrays alive (the layout's own vectors and,
-// where it shares them, the canonical octree's leaf index list).
+// Bytes of a view's arrays, from its forEachArray.
+template <class View>
+uint64_t arrayBytes(const View& v) {
+    uint64_t bytes = 0;
+    View::forEachArray(v, [&](const char*, const auto& span) { bytes += span.bytes(); });
+    return bytes;
+}
+
+// A copy of `v` whose every array is re-pointed by `rebind(what, span)`, which returns the new
+// data pointer for that span (the CUDA launcher: a device copy of it), and whose primitives are
+// `prims`. Names no layout: the CUDA upload is this call.
+template <class View, class F>
+View rebindArrays(View v, PrimitivesView prims, F&& rebind) {
+    View::forEachArray(v, [&](const char* what, auto& span) { span.data = rebind(what, span); });
+    v.prims = prims;
+    return v;
+}
+
+// A span over a vector's elements (null data when empty).
+template <class T>
+ArraySpan<T> spanOf(const std::vector<T>& v) {
+    return {v.empty() ? nullptr : v.data(), uint64_t(v.size())};
+}
+
+// A converted layout on the host, its View type erased so that one value holds any layout:
+// `owner` keeps the View and the arrays it points into alive (the layout's own vectors and,
+// where it shares them, the canonical octree's leaf index list). Made by makeLayoutStorage;
+// read back through the registry (layout_registry.h), which knows each index's View type.
 struct LayoutStorage {
     std::shared_ptr<const void> owner;
-    LayoutArrays arrays{};
-    uint64_t bytes = 0;
+    const void* view = nullptr;  // the layout's View, inside owner
+    uint64_t bytes = 0;          // arrayBytes(view)
 
-    template <class T>
-    const T& as() const {
-        return *static_cast<const T*>(owner.get());
+    template <class View>
+    const View& as() const {
+        return *static_cast<const View*>(view);
     }
 };
 
-// Helpers for layouts' conversions.
-inline LayoutArray layoutArray(const void* data, uint64_t bytes) { return {data, bytes}; }
-template <class T>
-LayoutArray layoutArray(const std::vector<T>& v) {
-    return {v.data(), uint64_t(v.size()) * sizeof(T)};
+template <class View>
+LayoutStorage makeLayoutStorage(const View& view, std::shared_ptr<const void> arrays) {
+    struct Held {
+        View view;
+        std::shared_ptr<const void> arrays;
+    };
+    auto held = std::make_shared<const Held>(Held{view, std::move(arrays)});
+    LayoutStorage s;
+    s.view = &held->view;
+    s.bytes = arrayBytes(view);
+    s.owner = std::move(held);
+    return s;
 }
+
+// The scene's primitives as kernels see them (host pointers).
+PrimitivesView primitivesView(const Scene& scene);
+
 // "12 MiB (12582912 bytes)", or "more than 2^64 bytes" for a saturated figure.
 std::string mibText(uint64_t bytes);
 

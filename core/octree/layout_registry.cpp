@@ -4,8 +4,14 @@ namespace oct {
 namespace {
 
 template <class L>
+NodeLookup lookupIn(const LayoutStorage& s, uint64_t key) {
+    return lookupNode(s.as<typename L::View>(), key);
+}
+
+template <class L>
 LayoutDesc describe(int index) {
-    return {index, L::kName, L::kSummary, L::kUsesOctree, &L::convert, &L::report};
+    return {index,           L::kName,    L::kSummary, L::kUsesOctree,
+            L::kSkipReasons, &L::convert, &L::report,  &lookupIn<L>};
 }
 
 template <class... L>

@@ -1,21 +1,22 @@
 // The one list of acceleration layouts. Everything that offers, builds, sizes, traces or tests
 // a layout iterates this list; nothing outside core/ names a layout.
 //
-// Adding a layout: write its header and source (a struct as described in layout.h, its View and
-// the closestHit/anyHit overloads for it), add it to `Layouts` below, and add its own tests.
-// The CLI's --accel, `octrace info`, bench, validate, the CPU and CUDA launchers and the
-// registry-driven tests pick it up from here.
+// Adding a layout: write its kernel header (its View) and its host entry (layout.h describes
+// both), add the entry to `Layouts` below, and add its own tests. The CLI's --accel, `octrace
+// info`, bench, validate, explain, the CPU and CUDA launchers and the registry-driven tests
+// pick it up from here.
 #pragma once
 
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
-#include "core/octree/compact_octree.h"
+#include "core/octree/compact_layout.h"
 #include "core/octree/exhaustive_layout.h"
-#include "core/octree/hash_octree.h"
+#include "core/octree/hash_layout.h"
 #include "core/octree/layout.h"
-#include "core/octree/linear_octree.h"
+#include "core/octree/linear_layout.h"
 
 namespace oct {
 
@@ -31,34 +32,57 @@ struct LayoutDesc {
     const char* name;
     const char* summary;
     bool usesOctree;
+    uint32_t skipReasons;  // skipReasonBits of the reasons its traversal reports (skip_reasons.h)
     LayoutStorage (*convert)(const Scene& scene, const std::shared_ptr<const Octree>& tree,
                              const LayoutOptions& o);
     LayoutReport (*report)(const Scene& scene, const Octree& tree, const LayoutOptions& o);
+    // The node with Morton key `key` in a converted layout, found as its traversal finds it.
+    NodeLookup (*lookup)(const LayoutStorage& storage, uint64_t key);
 };
+
+// What commands trace when --accel is not given: the paper's two layouts (validate checks both;
+// render, trace and explain draw the first).
+constexpr const char* kDefaultLayouts = "linear,hash";
+constexpr const char* kDefaultLayout = "linear";
 
 // Every layout, in list order.
 const std::vector<LayoutDesc>& layouts();
 // The layout called `name`; throws OctreeError naming the value and the choices otherwise.
 const LayoutDesc& findLayout(const std::string& name);
-// "exhaustive, linear, hash" (for help texts and messages).
+// "exhaustive, linear, hash, compact" (for help texts and messages).
 std::string layoutNames();
+
+template <class L>
+struct LayoutTag {
+    using Layout = L;
+    using View = typename L::View;
+};
 
 namespace detail {
 template <class F, class... L>
-void visitLayoutView(LayoutList<L...>, int index, const LayoutArrays& a, PrimitivesView p, F& f) {
+void visitLayoutType(LayoutList<L...>, int index, F& f) {
     int i = 0;
-    const bool found = ((i++ == index && (f(L::view(a, p)), true)) || ...);
+    const bool found = ((i++ == index && (f(LayoutTag<L>{}), true)) || ...);
     if (!found)
-        throw std::logic_error("visitLayoutView: no layout at index " + std::to_string(index));
+        throw std::logic_error("visitLayoutType: no layout at index " + std::to_string(index));
 }
 }  // namespace detail
 
-// The one dispatch from the user's choice to a typed view: calls f(view) with the layout's View
-// built from `arrays` (host pointers for the CPU, device pointers in the CUDA launcher).
+// The one dispatch from the user's choice to the layout's types: calls f(LayoutTag<L>{}) for
+// the registry entry L of `layout`.
 template <class F>
-void visitLayoutView(const LayoutDesc& layout, const LayoutArrays& arrays, PrimitivesView prims,
-                     F&& f) {
-    detail::visitLayoutView(Layouts{}, layout.index, arrays, prims, f);
+void visitLayoutType(const LayoutDesc& layout, F&& f) {
+    detail::visitLayoutType(Layouts{}, layout.index, f);
+}
+
+// Calls f(view) with the typed View held by `storage`, a conversion of `layout` (host pointers
+// for the CPU, device pointers in the CUDA launcher).
+template <class F>
+void visitLayoutView(const LayoutDesc& layout, const LayoutStorage& storage, F&& f) {
+    visitLayoutType(layout, [&](auto tag) {
+        using View = typename decltype(tag)::View;
+        f(storage.as<View>());
+    });
 }
 
 }  // namespace oct

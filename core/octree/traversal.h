@@ -14,9 +14,9 @@
 #include "core/geometry/aabb.h"
 #include "core/geometry/primitives_view.h"
 #include "core/geometry/ray.h"
+#include "core/octree/leaf_list.h"
 #include "core/octree/morton.h"
 #include "core/octree/node.h"
-#include "core/octree/node_lookup.h"
 #include "core/octree/octree_limits.h"
 #include "core/octree/traversal_observer.h"
 
@@ -45,12 +45,12 @@ OCT_HD inline void sortFarToNear(StackEntry* e, int n) {
 // refuses depths beyond kMaxOctreeDepth, which bounds the stack (7 per level + 8).
 // kAnyHit: stop at the first primitive hit in [tmin, tmax] (shadow rays).
 // OctView needs: root(obs) -> const OctreeNode* (null: no tree), child(node, key, octant, obs)
-// -> const OctreeNode* (null: absent), and the members primIndices, primIndexCount and prims.
+// -> const OctreeNode* (null: absent), and the members primIndices (ArraySpan) and prims.
 // child() must never hand back a node the walk has passed (linear: an index after the parent's
 // and inside the array; hash: the node whose key is the child key, and keys only grow), so the
 // walk cannot cycle and its work is bounded by the tree; a wrong but in-order node (a faulty
 // index) is a wrong answer that validation's hit and structure checks report. Not checking
-// each child's key here keeps the paper's linear walk at its cost (it was +11% instructions).
+// each child's key here keeps the paper's linear walk at its cost (docs/PERFORMANCE.md).
 // An inconsistent structure returns faultHit() (core/geometry/ray.h). `obs` sees every
 // step (traversal_observer.h); the kernels pass NoObserver.
 template <bool kAnyHit, class OctView, class Obs>
@@ -84,15 +84,10 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         obs.nodePopped(n.key, e.tEnter, true);
         NodeType type = n.nodeType();
         if (type == NodeType::Leaf) {
-            for (uint32_t k = 0; k < n.primCount; ++k) {
-                // Bounds: a corrupted list must fail the check, never read past the arrays.
-                const uint64_t at = uint64_t(n.primOffset) + k;
-                if (at >= v.primIndexCount) return faultHit();
-                const uint32_t prim = loadReadOnly(v.primIndices + at);
-                if (prim >= v.prims.count) return faultHit();
-                considerPrimitive(v.prims, prim, q, best, cost, obs);
-                if (kAnyHit && best.prim >= 0) return best;
-            }
+            const LeafOutcome out = testLeafList<kAnyHit>(v.primIndices, n.primOffset, n.primCount,
+                                                          v.prims, q, best, cost, obs);
+            if (out == LeafOutcome::Fault) return faultHit();
+            if (out == LeafOutcome::Found) return best;
             continue;
         }
         if (type != NodeType::Internal) continue;
@@ -123,33 +118,6 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         for (int i = 0; i < count; ++i) stack[top++] = kids[i];
     }
     return finishHit(best);
-}
-
-// The node with Morton key `key`, found as traversal finds it: from root(), one child() step per
-// octant digit of the key (the structural check of validation, node_lookup.h). Host only.
-template <class View, std::enable_if_t<View::kNodeRecords, int> = 0>
-inline NodeLookup lookupNode(const View& v, uint64_t key) {
-    NoObserver none;
-    NodeLookup out;
-    const OctreeNode* at = v.root(none);
-    const int depth = keyDepth(key);
-    for (int d = depth - 1; at != nullptr && d >= 0; --d) {
-        if (at->nodeType() != NodeType::Internal) return out;
-        at = v.child(at, at->key, int((key >> (3 * d)) & 7u), none);
-    }
-    if (at == nullptr || at->key != key) return out;
-    out.found = true;
-    out.type = at->nodeType();
-    out.box = at->box;
-    if (out.type == NodeType::Leaf || out.type == NodeType::EmptyLeaf) {
-        if (uint64_t(at->primOffset) + at->primCount > v.primIndexCount) {
-            out.broken = true;
-            return out;
-        }
-        out.list = v.primIndices + at->primOffset;
-        out.count = at->primCount;
-    }
-    return out;
 }
 
 // The closest-hit and any-hit queries of every View that declares

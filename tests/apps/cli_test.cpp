@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_list.h"
 #include "core/io/npy.h"
 #include "core/octree/built_scene.h"
 #include "core/render/frame.h"
@@ -164,7 +165,7 @@ TEST_F(Cli, RenderWritesPngAndArraysEqualToAnInProcessFrame) {
     FrameParams frame = makeFrame(scene.bounds(), cam);
     BuiltScene built = buildScene(scene, findLayout("exhaustive"), LayoutOptions{});
     Film film;
-    renderCpu(frame, built, film);
+    renderWith(hostBackend(), built, frame, film);
     EXPECT_TRUE(sameBits(npyVector<float>(t), film.t));
     EXPECT_EQ(npyVector<int32_t>(prim), film.prim);
     int pw = 0, ph = 0, channels = 0;

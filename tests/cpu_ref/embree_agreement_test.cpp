@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_list.h"
 #include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/grid_cloud.h"
@@ -92,7 +93,7 @@ Film renderEmbree(const FrameParams& p, const Scene& scene) {
 Film renderLayout(const FrameParams& p, const Scene& scene, const LayoutDesc& layout) {
     BuiltScene built = buildScene(scene, layout, LayoutOptions{});
     Film film;
-    renderCpu(p, built, film);
+    renderWith(hostBackend(), built, p, film);
     return film;
 }
 

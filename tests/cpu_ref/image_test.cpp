@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_list.h"
 #include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
@@ -52,7 +53,7 @@ protected:
         frame_ = makeFrame(scene_->bounds(), opt);
         BuiltScene built = buildScene(*scene_, findLayout("linear"), LayoutOptions{});
         film_ = new Film;
-        renderCpu(frame_, built, *film_);
+        renderWith(hostBackend(), built, frame_, *film_);
         EmbreeTracer embree(*scene_);
         embreeFilm_ = new Film(kSide, kSide);
         renderFrameCpu(frame_, embree.accel(), primitivesView(*scene_), embreeFilm_->view());

@@ -8,9 +8,9 @@
 #include <random>
 #include <string>
 
+#include "backends/backend_list.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
-#include "cpu_ref/render_cpu.h"
 #include "gpu/cuda_backend.h"
 
 namespace oct {
@@ -21,6 +21,9 @@ namespace {
         std::string why_;                                                 \
         if (!cudaDevicePresent(why_)) GTEST_SKIP() << "no GPU: " << why_; \
     } while (0)
+
+// The CUDA backend's entry in the backend list (this test binary is built only with CUDA).
+const BackendDesc& cuda() { return *findBackend(cudaBackend().name); }
 
 // The repository root: $OCT_SOURCE_DIR when set (the GPU machine runs binaries built here from
 // another checkout path, scripts/gpu-run), else the path compiled in.
@@ -48,8 +51,8 @@ void expectBitEqual(const Scene& scene, int w, int h) {
     for (const LayoutDesc& layout : layouts()) {  // every layout of the registry
         BuiltScene b = buildScene(scene, layout, {});
         Film cpu, gpu;
-        renderCpu(frame, b, cpu);
-        renderCuda(frame, b, gpu);
+        renderWith(hostBackend(), b, frame, cpu);
+        renderWith(cuda(), b, frame, gpu);
         size_t hits = 0;
         for (int32_t p : cpu.prim) hits += p >= 0;
         EXPECT_GT(hits, 0u) << scene.name;
@@ -102,8 +105,8 @@ TEST(CudaBackend, TraceEqualsOpenMp) {
         BuiltScene b = buildScene(scene, layout, {});
         std::vector<float> tc(n), tg(n);
         std::vector<int32_t> pc(n), pg(n);
-        traceCpu(b, {rays.data(), tc.data(), pc.data(), n});
-        traceCuda(b, {rays.data(), tg.data(), pg.data(), n});
+        traceWith(hostBackend(), b, {rays.data(), tc.data(), pc.data(), n});
+        traceWith(cuda(), b, {rays.data(), tg.data(), pg.data(), n});
         EXPECT_EQ(std::memcmp(tc.data(), tg.data(), n * sizeof(float)), 0) << layout.name;
         EXPECT_EQ(pc, pg) << layout.name;
     }

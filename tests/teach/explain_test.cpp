@@ -11,8 +11,9 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "backends/backend.h"
+#include "backends/backend_list.h"
 #include "core/octree/built_scene.h"
+#include "core/octree/skip_reasons.h"
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
 #include "teach/teach_error.h"
@@ -308,6 +309,43 @@ TEST(ExplainOutput, JsonHoldsEveryStepAndTheKernelsCost) {
                   std::string::npos)
             << text;
     }
+}
+
+// Every skipped child is written with its own reason, in the text and in the JSON: the compact
+// layout's cells whose quantised bounds the ray misses were once printed as "missed" and written
+// as "absent".
+TEST(ExplainOutput, EverySkipIsLabelledWithItsOwnReason) {
+    const Scene scene = loadScene(kMeshes + "/teapot.obj", {});
+    CameraOptions cam;
+    cam.width = cam.height = 24;
+    const FrameParams frame = makeFrame(scene.bounds(), cam);
+    uint32_t seen = 0;
+    for (const LayoutDesc& layout : layouts()) {
+        SCOPED_TRACE(layout.name);
+        const BuiltScene bs = buildScene(scene, layout, LayoutOptions{});
+        for (int y = 0; y < frame.height; y += 3)
+            for (int x = 0; x < frame.width; x += 3) {
+                const Explanation e = explainPixel(bs, frame, x, y);
+                const nlohmann::json j = nlohmann::json::parse(explainJson(e));
+                const std::vector<ExplainLine> lines = explainLines(e, 0);
+                const auto& steps = j["rays"][0]["steps"];
+                ASSERT_EQ(steps.size(), e.primary.steps.size());
+                for (size_t i = 0; i < e.primary.steps.size(); ++i) {
+                    const ExplainStep& s = e.primary.steps[i];
+                    if (s.event != StepEvent::Skip) continue;
+                    seen |= skipReasonBit(s.why);
+                    EXPECT_EQ(steps[i]["why"], skipReasonKey(s.why));
+                    bool labelled = false;
+                    for (const ExplainLine& line : lines)
+                        labelled = labelled ||
+                                   (line.step == i + 1 &&
+                                    line.text.find(skipReasonText(s.why)) != std::string::npos);
+                    EXPECT_TRUE(labelled) << "step " << i + 1 << " " << skipReasonKey(s.why);
+                }
+            }
+    }
+    EXPECT_TRUE(seen & skipReasonBit(SkipReason::OutsideBounds)) << "no compact bounds skip seen";
+    EXPECT_TRUE(seen & skipReasonBit(SkipReason::Empty)) << "no empty leaf seen";
 }
 
 // The lines say which hit is the closest so far with the kernel's tie rule (considerPrimitive:

@@ -11,7 +11,9 @@
 #include <map>
 #include <set>
 
+#include "backends/backend_list.h"
 #include "cpu_ref/embree_tracer.h"
+#include "cpu_ref/render_cpu.h"
 #include "tests/validation/fixtures.h"
 #include "validation/report.h"
 
@@ -38,7 +40,7 @@ HitArrays traceWithLayout(const Scene& scene, const LayoutDesc& layout, const Ra
     HitArrays h;
     h.t.resize(rays.count());
     h.prim.resize(rays.count());
-    traceCpu(bs, {rays.rays.data(), h.t.data(), h.prim.data(), rays.count()});
+    traceWith(hostBackend(), bs, {rays.rays.data(), h.t.data(), h.prim.data(), rays.count()});
     return h;
 }
 

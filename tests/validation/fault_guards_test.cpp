@@ -105,7 +105,7 @@ TEST(FaultGuards, LinearChildrenPastTheArrayAreAbsentNotRead) {
     lin.nodes.shrink_to_fit();
     const PrimitivesView prims = primitivesView(scene);
     LinearOctreeView view = linearView(lin, tree, prims);
-    ASSERT_EQ(view.nodeCount, 9u);
+    ASSERT_EQ(view.nodes.count, 9u);
     const Vec3 c = scene.bounds().center();
     Ray r = {{c.x, c.y, c.z - 10.0f}, {0, 0, 1}, 0.0f, INFINITY};
     TraceCost cost = {0, 0};

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_list.h"
 #include "core/octree/built_scene.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
@@ -50,8 +51,10 @@ inline CpuTracers cpuTracers(const oct::Scene& scene, const std::vector<std::str
             });
         t.tracers.push_back(
             {l->name, "cpu",
-             [bs](const oct::FrameParams& p, oct::Film& f) { oct::renderCpu(p, *bs, f); },
-             [bs](oct::RayBatchView b) { oct::traceCpu(*bs, b); }, lookup});
+             [bs](const oct::FrameParams& p, oct::Film& f) {
+                 oct::renderWith(oct::hostBackend(), *bs, p, f);
+             },
+             [bs](oct::RayBatchView b) { oct::traceWith(oct::hostBackend(), *bs, b); }, lookup});
     }
     return t;
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "backends/backend_list.h"
 #include "core/geometry/primitives.h"
 #include "core/octree/built_scene.h"
 #include "core/render/frame.h"
@@ -133,7 +134,7 @@ void traceEveryWay(const Scene& scene, const std::vector<Ray>& rays) {
     };
     for (const char* name : {"exhaustive", "linear"}) {
         BuiltScene built = buildScene(scene, findLayout(name), LayoutOptions{});
-        traceCpu(built, batch);
+        traceWith(hostBackend(), built, batch);
         Tally tally;
         check(cls, rays, hits(), name, tally);
         EXPECT_EQ(tally.infinite, 0) << name;
@@ -162,7 +163,7 @@ void renderEveryWay(const Scene& scene, std::optional<Vec3> eye) {
     renderFrameCpu(p, embree.accel(), primitivesView(scene), truth.view());
     BuiltScene built = buildScene(scene, findLayout("linear"), LayoutOptions{});
     Film film;
-    renderCpu(p, built, film);
+    renderWith(hostBackend(), built, p, film);
     int hits = 0;
     for (size_t i = 0; i < film.pixelCount(); ++i) {
         if (film.prim[i] >= 0) ++hits;
@@ -243,7 +244,7 @@ TEST(NumericRange, TheSmallestTriangleIsHitAtItsDistance) {
     };
     for (const char* name : {"exhaustive", "linear"}) {
         BuiltScene built = buildScene(s, findLayout(name), LayoutOptions{});
-        traceCpu(built, batch);
+        traceWith(hostBackend(), built, batch);
         expectHits(name);
     }
     EmbreeTracer embree(s);

@@ -1,4 +1,4 @@
-#include "core/octree/compact_octree.h"
+#include "core/octree/compact_layout.h"
 
 #include <algorithm>
 #include <array>
@@ -10,9 +10,9 @@
 namespace oct {
 namespace {
 
-// The compact layout's storage: its records, and the canonical tree whose leaf index list it
-// shares.
-struct CompactStorage {
+// What the compact layout's view points into: its records and bounds, and the canonical tree
+// whose leaf index list it shares.
+struct CompactArrays {
     std::shared_ptr<const Octree> tree;
     CompactOctree compact;
 };
@@ -217,15 +217,48 @@ CompactOctree buildCompact(const Octree& tree, const Scene* scene) {
 
 CompactOctreeView compactView(const CompactOctree& c, const Octree& tree, PrimitivesView prims) {
     CompactOctreeView v;
-    v.nodes = c.nodes.data();
-    v.primIndices = tree.primIndices.data();
-    v.primIndexCount = tree.primIndices.size();
+    v.nodes = spanOf(c.nodes);
+    v.primIndices = spanOf(tree.primIndices);
+    v.bounds = spanOf(c.bounds);
     v.prims = prims;
     v.rootBox = c.rootBox;
     v.rootIsLeaf = c.rootIsLeaf;
-    v.nodeCount = uint32_t(c.nodes.size());
-    v.bounds = c.bounds.empty() ? nullptr : c.bounds.data();
     return v;
+}
+
+NodeLookup lookupNode(const CompactOctreeView& v, uint64_t key) {
+    NodeLookup out;
+    if (v.nodes.count == 0) return out;
+    uint32_t index = 0;
+    bool leaf = v.rootIsLeaf != 0;
+    Aabb box = v.rootBox;
+    for (int d = keyDepth(key) - 1; d >= 0; --d) {
+        if (leaf) return out;
+        const CompactNode n = v.nodes.data[index];
+        const int octant = int((key >> (3 * d)) & 7u);
+        if (!((n.childMask() >> octant) & 1u)) return out;
+        const uint32_t next = compactChildIndex(n, octant);
+        if (next <= index || next >= v.nodes.count) {
+            out.broken = true;
+            return out;
+        }
+        index = next;
+        leaf = (n.leafMask() >> octant) & 1u;
+        box = childBox(box, octant);
+    }
+    out.found = true;
+    out.box = box;
+    out.type = leaf ? NodeType::Leaf : NodeType::Internal;
+    if (leaf) {
+        const CompactNode n = v.nodes.data[index];
+        if (uint64_t(n.primOffset()) + n.primCount() > v.primIndices.count) {
+            out.broken = true;
+            return out;
+        }
+        out.list = v.primIndices.data + n.primOffset();
+        out.count = n.primCount();
+    }
+    return out;
 }
 
 LayoutStorage CompactLayout::convert(const Scene& scene, const std::shared_ptr<const Octree>& tree,
@@ -233,21 +266,12 @@ LayoutStorage CompactLayout::convert(const Scene& scene, const std::shared_ptr<c
     if (tree->nodes.size() > 0xffffffffull)
         throw OctreeError("the compact layout addresses at most 2^32 nodes; this octree has " +
                           std::to_string(tree->nodes.size()) + ": lower --max-depth");
-    auto owner = std::make_shared<CompactStorage>();
-    owner->tree = tree;
-    owner->compact = buildCompact(*tree, &scene);
-    const CompactOctree& c = owner->compact;
-    LayoutStorage s;
-    s.arrays.arrays[0] = layoutArray(c.nodes);
-    s.arrays.arrays[1] = layoutArray(tree->primIndices);
-    s.arrays.arrays[2] = layoutArray(c.bounds);
-    const float box[6] = {c.rootBox.lo.x, c.rootBox.lo.y, c.rootBox.lo.z,
-                          c.rootBox.hi.x, c.rootBox.hi.y, c.rootBox.hi.z};
-    std::memcpy(s.arrays.scalars, box, sizeof box);
-    s.arrays.scalars[3] = c.rootIsLeaf ? 1 : 0;
-    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes + s.arrays.arrays[2].bytes;
-    s.owner = std::move(owner);
-    return s;
+    auto arrays = std::make_shared<CompactArrays>();
+    arrays->tree = tree;
+    arrays->compact = buildCompact(*tree, &scene);
+    // The view first: it points into *arrays, which the storage then takes over.
+    const auto view = compactView(arrays->compact, *tree, primitivesView(scene));
+    return makeLayoutStorage(view, std::move(arrays));
 }
 
 LayoutReport CompactLayout::report(const Scene& scene, const Octree& tree, const LayoutOptions& o) {
@@ -256,11 +280,12 @@ LayoutReport CompactLayout::report(const Scene& scene, const Octree& tree, const
     LayoutReport r;
     r.convertSeconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    const uint64_t records = s.arrays.arrays[0].bytes / sizeof(CompactNode);
+    const CompactOctreeView& v = s.as<CompactOctreeView>();
+    const uint64_t records = v.nodes.count;
     const uint64_t perNode = sizeof(CompactNode) + sizeof(QuantBounds);
     r.bytes = s.bytes;
     r.facts = {countFact("nodes", records),
-               countFact("node_bytes", s.arrays.arrays[0].bytes + s.arrays.arrays[2].bytes),
+               countFact("node_bytes", v.nodes.bytes() + v.bounds.bytes()),
                countFact("bytes_per_node", perNode), countFact("bytes", r.bytes),
                realFact("build_seconds", r.convertSeconds)};
     char line[160];

@@ -1,4 +1,4 @@
-#include "core/octree/linear_octree.h"
+#include "core/octree/linear_layout.h"
 
 #include <chrono>
 #include <cstdio>
@@ -34,9 +34,9 @@ OctreeNode invalidNode() {
     return n;
 }
 
-// The linear layout's storage: its array, and the canonical tree whose leaf index list it
-// shares.
-struct LinearStorage {
+// What the linear layout's view points into: its array, and the canonical tree whose leaf
+// index list it shares.
+struct LinearArrays {
     std::shared_ptr<const Octree> tree;
     LinearOctree lin;
 };
@@ -67,21 +67,17 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
 }
 
 LinearOctreeView linearView(const LinearOctree& lin, const Octree& tree, PrimitivesView prims) {
-    return {lin.nodes.data(), lin.nodes.size(), tree.primIndices.data(), tree.primIndices.size(),
-            prims};
+    return {spanOf(lin.nodes), spanOf(tree.primIndices), prims};
 }
 
-LayoutStorage LinearLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,
+LayoutStorage LinearLayout::convert(const Scene& scene, const std::shared_ptr<const Octree>& tree,
                                     const LayoutOptions& o) {
-    auto owner = std::make_shared<LinearStorage>();
-    owner->tree = tree;
-    owner->lin = buildLinear(*tree, o.linearBudget);
-    LayoutStorage s;
-    s.arrays.arrays[0] = layoutArray(owner->lin.nodes);
-    s.arrays.arrays[1] = layoutArray(tree->primIndices);
-    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes;
-    s.owner = std::move(owner);
-    return s;
+    auto arrays = std::make_shared<LinearArrays>();
+    arrays->tree = tree;
+    arrays->lin = buildLinear(*tree, o.linearBudget);
+    // The view first: it points into *arrays, which the storage then takes over.
+    const auto view = linearView(arrays->lin, *tree, primitivesView(scene));
+    return makeLayoutStorage(view, std::move(arrays));
 }
 
 LayoutReport LinearLayout::report(const Scene&, const Octree& tree, const LayoutOptions&) {

@@ -1,10 +1,10 @@
-// The launchers of the kernel behind one small interface: the OpenMP loop (cpu_ref/), Embree
-// as ground truth (cpu_ref/) and CUDA (gpu/). A backend prepares a built scene once (Embree
-// builds its BVH, CUDA uploads) and then renders frames and traces ray batches, timing each.
-// The list of backends is backend_list.cpp; render, trace, validate and bench use it and
-// nothing else to choose a launcher.
+// The backend interface: what a launcher of the kernel (OpenMP, Embree, CUDA) offers the rest of
+// octrace. A backend prepares a built scene once (Embree builds its BVH, CUDA uploads) and then
+// renders frames and traces ray batches, timing each. Plain data and a contract: the launchers
+// (cpu_ref/, gpu/) implement it, and the one list of them is backends/backend_list.h.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,31 +29,26 @@ public:
     virtual double trace(RayBatchView batch) = 0;
 };
 
+// A backend's entry in the list. Fill it field by field (see cpu_ref/cpu_backend.cpp).
 struct BackendDesc {
-    const char* name;
-    const char* summary;
+    const char* name = nullptr;     // --backend NAME
+    const char* summary = nullptr;  // one line for help texts and `octrace list`
     // False for a backend that traces with its own structure (Embree): it is given the scene
     // alone (bareScene) and the layout is ignored.
-    bool usesLayouts;
+    bool usesLayouts = true;
     // The structure such a backend traces, as reports name it ("embree-bvh"); null otherwise.
-    const char* structure;
+    const char* structure = nullptr;
     // True for a backend on an accelerator (CUDA): `auto` prefers it when available, and
     // bench records the device's description with the results.
-    bool device;
+    bool device = false;
+    // True for the ground truth every check compares with (Embree, robust mode): exactly one
+    // backend of the list.
+    bool reference = false;
     // True when it can run here; otherwise `why` says why not in one line. Never throws.
-    bool (*available)(std::string& why);
+    bool (*available)(std::string& why) = nullptr;
     // Prepares the backend for `scene` (which must outlive the tracer).
-    std::unique_ptr<SceneTracer> (*prepare)(const BuiltScene& scene);
+    std::unique_ptr<SceneTracer> (*prepare)(const BuiltScene& scene) = nullptr;
 };
-
-// Every backend this build has, in list order.
-const std::vector<BackendDesc>& backends();
-// "cpu, embree, cuda" (those this build has).
-std::string backendNames();
-// The backend called `name`, or for "auto" the CUDA one when a device answers, else the CPU;
-// `note` receives what auto chose and why. Throws std::runtime_error naming the value and the
-// choices for an unknown name, and the reason for a backend that cannot run here.
-const BackendDesc& resolveBackend(const std::string& name, std::string& note);
 
 // What a frame rendered through a backend took.
 struct FrameRun {

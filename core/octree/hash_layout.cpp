@@ -1,4 +1,4 @@
-#include "core/octree/hash_octree.h"
+#include "core/octree/hash_layout.h"
 
 #include <algorithm>
 #include <chrono>
@@ -29,8 +29,9 @@ bool fits(const Octree& tree, uint64_t m, uint32_t B, std::vector<uint32_t>& fil
     return true;
 }
 
-// The hash layout's storage: its slots, and the canonical tree whose leaf index list it shares.
-struct HashStorage {
+// What the hash layout's view points into: its slots, and the canonical tree whose leaf index
+// list it shares.
+struct HashArrays {
     std::shared_ptr<const Octree> tree;
     HashOctree hash;
 };
@@ -90,23 +91,18 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
 }
 
 HashOctreeView hashView(const HashOctree& hash, const Octree& tree, PrimitivesView prims) {
-    return {hash.slots.data(),       hash.bucketCount,        hash.bucketSlots,
-            tree.primIndices.data(), tree.primIndices.size(), prims};
+    return {spanOf(hash.slots), hash.bucketCount, hash.bucketSlots, spanOf(tree.primIndices),
+            prims};
 }
 
-LayoutStorage HashLayout::convert(const Scene&, const std::shared_ptr<const Octree>& tree,
+LayoutStorage HashLayout::convert(const Scene& scene, const std::shared_ptr<const Octree>& tree,
                                   const LayoutOptions& o) {
-    auto owner = std::make_shared<HashStorage>();
-    owner->tree = tree;
-    owner->hash = buildHash(*tree, o.hash);
-    LayoutStorage s;
-    s.arrays.arrays[0] = layoutArray(owner->hash.slots);
-    s.arrays.arrays[1] = layoutArray(tree->primIndices);
-    s.arrays.scalars[0] = owner->hash.bucketCount;
-    s.arrays.scalars[1] = owner->hash.bucketSlots;
-    s.bytes = s.arrays.arrays[0].bytes + s.arrays.arrays[1].bytes;
-    s.owner = std::move(owner);
-    return s;
+    auto arrays = std::make_shared<HashArrays>();
+    arrays->tree = tree;
+    arrays->hash = buildHash(*tree, o.hash);
+    // The view first: it points into *arrays, which the storage then takes over.
+    const auto view = hashView(arrays->hash, *tree, primitivesView(scene));
+    return makeLayoutStorage(view, std::move(arrays));
 }
 
 LayoutReport HashLayout::report(const Scene&, const Octree& tree, const LayoutOptions& o) {

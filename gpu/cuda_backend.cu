@@ -1,11 +1,12 @@
-// The CUDA launcher: uploads the scene and the chosen layout as plain views, and runs the core
-// per-pixel function (core/render/kernel.h) one thread per pixel. Nothing here traces or shades.
+// The CUDA backend: uploads the scene and the chosen layout's View, and runs the core per-pixel
+// function (core/render/kernel.h) one thread per pixel, or traceRayAt one thread per ray.
+// Nothing here traces or shades.
 #include <algorithm>
 #include <chrono>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
-#include "core/time_spread.h"
 #include "gpu/cuda_backend.h"
 #include "gpu/device_buffer.h"
 
@@ -30,14 +31,15 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// The scene's primitives and the chosen layout's arrays in device memory, and the layout's
-// LayoutArrays with device pointers: the view is then built by the same registry dispatch as on
-// the host (visitLayoutView), so this file names no layout.
+// The scene's primitives and the chosen layout's arrays in device memory, and the layout's View
+// re-pointed to them: every array the View lists (forEachArray) is uploaded by rebindArrays, and
+// kernels receive the View through the same registry dispatch as on the host, so this file
+// names no layout.
 struct DeviceScene {
     DeviceBuffer<Triangle> tris;
     DeviceBuffer<Sphere> spheres;
-    DeviceBuffer<uint8_t> arrays[LayoutArrays::kMaxArrays];
-    LayoutArrays deviceArrays{};
+    std::vector<DeviceBuffer<uint8_t>> arrays;
+    LayoutStorage storage;  // the View over device memory (its owner holds no arrays)
     PrimitivesView prims{};
     const LayoutDesc* layout = nullptr;
 
@@ -48,17 +50,23 @@ struct DeviceScene {
         prims = b.prims();
         prims.tris = tris.get();
         prims.spheres = spheres.get();
-        deviceArrays = b.storage.arrays;
-        for (int i = 0; i < LayoutArrays::kMaxArrays; ++i) {
-            const LayoutArray& a = b.storage.arrays.arrays[i];
-            arrays[i].upload(static_cast<const uint8_t*>(a.data), a.bytes, "the layout's arrays");
-            deviceArrays.arrays[i] = {arrays[i].get(), a.bytes};
-        }
+        visitLayoutType(*layout, [&](auto tag) {
+            using View = typename decltype(tag)::View;
+            auto upload = [&](const char* what, const auto& span) {
+                using T = typename std::decay_t<decltype(span)>::Element;
+                DeviceBuffer<uint8_t> buffer;
+                buffer.upload(reinterpret_cast<const uint8_t*>(span.data), span.bytes(), what);
+                const T* device = reinterpret_cast<const T*>(buffer.get());
+                arrays.push_back(std::move(buffer));
+                return device;
+            };
+            storage = makeLayoutStorage(rebindArrays(b.storage.as<View>(), prims, upload), nullptr);
+        });
     }
 
     template <class F>
     void visit(F&& f) const {
-        visitLayoutView(*layout, deviceArrays, prims, f);
+        visitLayoutView(*layout, storage, f);
     }
 };
 
@@ -121,7 +129,7 @@ bool cudaDevicePresent(std::string& why) {
     if (e != cudaSuccess) {
         why = std::string("no usable CUDA device: ") + cudaGetErrorName(e) + " (" +
               cudaGetErrorString(e) + ")";
-        cudaGetLastError();  // clear the sticky-free error so later queries start clean
+        cudaGetLastError();  // reset the last-error state, so later calls do not report this one
         return false;
     }
     if (count == 0) {
@@ -173,9 +181,7 @@ public:
                 OCT_CUDA_CHECK_LAUNCH();
             }
         });
-        auto t0 = std::chrono::steady_clock::now();
         dfilm.download(film);
-        downloadSeconds_ = secondsSince(t0);
         return times;
     }
 
@@ -204,11 +210,9 @@ public:
         return seconds;
     }
 
-    double downloadSeconds() const { return downloadSeconds_; }
-
 private:
     std::unique_ptr<DeviceScene> scene_;
-    double uploadSeconds_ = 0.0, downloadSeconds_ = 0.0;
+    double uploadSeconds_ = 0.0;
 };
 
 std::unique_ptr<SceneTracer> prepareCuda(const BuiltScene& b) {
@@ -218,28 +222,14 @@ std::unique_ptr<SceneTracer> prepareCuda(const BuiltScene& b) {
 }  // namespace
 
 BackendDesc cudaBackend() {
-    return {"cuda",      "the core kernel on the GPU, one thread per pixel or ray",
-            true,        nullptr,
-            true,        &cudaDevicePresent,
-            &prepareCuda};
-}
-
-double renderCuda(const FrameParams& p, const BuiltScene& b, Film& film, CudaTiming* timing,
-                  int warmup, int repeats) {
-    CudaSceneTracer tracer(b);
-    const TimeSpread spread = timeSpread(tracer.render(p, film, warmup, repeats));
-    CudaTiming tm;
-    tm.uploadSeconds = tracer.prepareSeconds();
-    tm.kernelSeconds = spread.median;  // the rule octrace bench uses for the CPU
-    tm.minKernelSeconds = spread.min;
-    tm.maxKernelSeconds = spread.max;
-    tm.downloadSeconds = tracer.downloadSeconds();
-    if (timing) *timing = tm;
-    return tm.kernelSeconds;
-}
-
-double traceCuda(const BuiltScene& b, RayBatchView batch) {
-    return CudaSceneTracer(b).trace(batch);
+    BackendDesc d;
+    d.name = "cuda";
+    d.summary = "the core kernel on the GPU, one thread per pixel or ray";
+    d.usesLayouts = true;
+    d.device = true;
+    d.available = &cudaDevicePresent;
+    d.prepare = &prepareCuda;
+    return d;
 }
 
 }  // namespace oct
