@@ -45,7 +45,8 @@ OCT_HD inline T loadReadOnly(const T* p) {
 }
 #else
 // A reference, not a copy: callers bind `const T& x = loadReadOnly(p)`, which then reads the
-// fields in place (a 48-byte node copied per visit cost the CPU path 13-22% of its frame time).
+// fields in place (a node copied per visit costs the CPU path: docs/PERFORMANCE.md, "Kernel
+// choices").
 template <class T>
 OCT_HD inline const T& loadReadOnly(const T* p) {
     return *p;

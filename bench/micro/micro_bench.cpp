@@ -193,7 +193,7 @@ struct LayoutFixture {
             if (node.nodeType() == NodeType::Internal) {
                 presentKeys.push_back(childKey(node.key, int(rng() & 7)));
                 parents.push_back(linearIndexOfKey(node.key));
-            } else if (node.depth < kMaxMortonDepth) {
+            } else if (node.depth < kMaxOctreeDepth) {
                 absentKeys.push_back(childKey(node.key, int(rng() & 7)));
             }
         }

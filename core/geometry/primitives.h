@@ -50,8 +50,8 @@ OCT_HD inline ShearedRay makeShearedRay(Vec3 org, Vec3 dir) {
 }
 
 // Returns true and the distance t when the ray hits the triangle with tmin <= t <= tmax.
-// Both faces count. Edge functions that are exactly zero are recomputed in double, as the
-// paper prescribes, so a ray through a shared edge hits at least one of the two triangles.
+// Both faces count. Edge functions that are exactly zero are recomputed in double, as Woop,
+// Benthin & Wald (2013) prescribe, so a ray through a shared edge hits at least one of the two.
 OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, float tmin,
                                      float tmax, float& tHit) {
     Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;

@@ -100,7 +100,7 @@ static_assert(std::is_trivially_copyable<CompactOctreeView>::value, "views are p
 
 // Host loops over the eight lanes are written for the vectoriser; CUDA runs them per thread.
 // childIntervals is forced inline on the host: GCC kept it out of line once it became a function
-// of its own (7 % of a 4M-ray trace in the call and its stores), although it is one loop body.
+// of its own, although it is one loop body (docs/PERFORMANCE.md, "Kernel choices").
 #if defined(__CUDA_ARCH__)
 #define OCT_SIMD_LOOP
 #define OCT_LANES_INLINE
@@ -194,8 +194,8 @@ OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const RaySlabs& s, const 
 }
 
 // Set bits of an 8-bit mask. The host reads a 256-entry table (popcount is a library call on
-// x86-64 without -mpopcnt, and the SWAR form cost 7 % of a frame's instructions); the device
-// has an instruction for it.
+// x86-64 without -mpopcnt, and the SWAR form costs more: docs/PERFORMANCE.md, "Kernel
+// choices"); the device has an instruction for it.
 struct BitCounts {
     uint8_t n[256];
     constexpr BitCounts() : n() {

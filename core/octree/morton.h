@@ -7,12 +7,12 @@
 
 #include <cstdint>
 
+#include "core/octree/octree_limits.h"
 #include "core/platform.h"
 
 namespace oct {
 
 constexpr uint64_t kRootKey = 1;
-constexpr int kMaxMortonDepth = 21;
 
 OCT_HD inline uint64_t childKey(uint64_t key, int octant) {
     return (key << 3) | static_cast<uint64_t>(octant);

@@ -1,5 +1,5 @@
-// The canonical octree: what the host builder produces and what every layout is converted
-// from (linear_octree.h, hash_octree.h). Host-only; kernels see the layouts' views.
+// The canonical octree: what the host builder produces and what every layout of the registry
+// is converted from (layout_registry.h). Host-only; kernels see the layouts' views.
 #pragma once
 
 #include <cstdint>

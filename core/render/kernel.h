@@ -147,7 +147,7 @@ struct RayBatchView {
 // after scaling becomes +inf or 0 exactly where no hit of the scene can lie.
 // The scaling is a multiplication by a float power of two, built from its exponent bits:
 // correctly rounded like ldexpf (the same bits, overflow and underflow included), without a
-// libm call per ray (frexpf/ldexpf were 6% of a 4M-ray `octrace trace` on the CPU). A largest
+// libm call per ray (docs/PERFORMANCE.md, "Kernel choices"). A largest
 // component outside the normal exponents the fast form covers takes ldexpf.
 OCT_HD inline float powerOfTwo(int k) {  // 2^k, k in [-126, 127]
     const uint32_t bits = uint32_t(k + 127) << 23;

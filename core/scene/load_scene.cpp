@@ -77,9 +77,9 @@ void checkSceneRange(const Scene& scene) {
         " (docs/ROBUSTNESS.md, numeric range: float32 ray tests, ours and Embree's, are only "
         "correct inside it); rescale the scene";
     const double largest = largestCoordinate(scene);
-    if (largest > kMaxSceneCoordinate)
+    if (largest > kMaxCoordinate)
         throw SceneError("cannot load " + inQuotes(scene.name) + ": its coordinates reach " +
-                         shortNumber(largest) + ", beyond +-" + shortNumber(kMaxSceneCoordinate) +
+                         shortNumber(largest) + ", beyond +-" + shortNumber(kMaxCoordinate) +
                          where);
     const Vec3 e = scene.bounds().extent();
     const double extent = std::max({double(e.x), double(e.y), double(e.z)});

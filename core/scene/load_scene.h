@@ -45,13 +45,12 @@ namespace oct {
 
 // Loaded scenes must lie in the numeric range of core/geometry/numeric_range.h, where the
 // float32 tests (ours and Embree's) are correct: every coordinate (a sphere's centre plus its
-// radius) within +-kMaxSceneCoordinate (beyond it the cube of the coordinates in the triangle
+// radius) within +-kMaxCoordinate (beyond it the cube of the coordinates in the triangle
 // tests leaves float range and hits came back at t = +inf), an extent of at least
 // kMinSceneExtent, twice every triangle's area at least kMinTriangleArea2 and every radius at
 // least kMinSphereRadius (below them products of coordinates underflow: t = 0, or a triangle
 // that can never be hit). Anything else is refused with the value and "rescale". Generated
 // grid clouds lie in the unit cube.
-constexpr double kMaxSceneCoordinate = kMaxCoordinate;
 
 Scene loadScene(const std::string& path, const LoadOptions& opts = {});
 

@@ -1,7 +1,8 @@
 // The canonical octree (core/octree/builder.cpp) and its linear and hash layouts
-// (core/octree/layouts.cpp), checked against invariants computed independently of the code under
-// test: Morton ancestry, volumes, a double-precision brute-force triangle/box test
-// (brute_sat.h), a breadth-first walk for linear positions, and trial-division primes.
+// (core/octree/linear_layout.cpp, hash_layout.cpp), checked against invariants computed
+// independently of the code under test: Morton ancestry, volumes, a double-precision brute-force
+// triangle/box test (brute_sat.h), a breadth-first walk for linear positions, and trial-division
+// primes.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -58,7 +58,7 @@ uint64_t randomKey(std::mt19937_64& rng, int depth) {
 TEST(Morton, EncodeDecodeRoundTripRandomCells) {
     std::mt19937_64 rng(12345);
     for (int iter = 0; iter < 200000; ++iter) {
-        int depth = static_cast<int>(rng() % (kMaxMortonDepth + 1));
+        int depth = static_cast<int>(rng() % (kMaxOctreeDepth + 1));
         uint32_t mask = depth == 0 ? 0u : ((1u << depth) - 1u);
         uint32_t x = static_cast<uint32_t>(rng()) & mask;
         uint32_t y = static_cast<uint32_t>(rng()) & mask;
@@ -80,11 +80,11 @@ TEST(Morton, EncodeDecodeRoundTripRandomCells) {
 }
 
 TEST(Morton, ExtremeCells) {
-    const uint32_t maxCoord = (1u << kMaxMortonDepth) - 1u;
+    const uint32_t maxCoord = (1u << kMaxOctreeDepth) - 1u;
     // The deepest, all-ones cell fills all 64 bits.
-    EXPECT_EQ(encodeMorton(maxCoord, maxCoord, maxCoord, kMaxMortonDepth), ~uint64_t(0));
-    EXPECT_EQ(keyDepth(~uint64_t(0)), kMaxMortonDepth);
-    EXPECT_EQ(encodeMorton(0, 0, 0, kMaxMortonDepth), uint64_t(1) << 63);
+    EXPECT_EQ(encodeMorton(maxCoord, maxCoord, maxCoord, kMaxOctreeDepth), ~uint64_t(0));
+    EXPECT_EQ(keyDepth(~uint64_t(0)), kMaxOctreeDepth);
+    EXPECT_EQ(encodeMorton(0, 0, 0, kMaxOctreeDepth), uint64_t(1) << 63);
     EXPECT_EQ(encodeMorton(0, 0, 0, 0), kRootKey);
     EXPECT_EQ(keyDepth(kRootKey), 0);
     uint32_t x, y, z;
@@ -102,7 +102,7 @@ TEST(Morton, ExtremeCells) {
 TEST(Morton, KeyArithmeticMatchesBitLoops) {
     std::mt19937_64 rng(777);
     for (int iter = 0; iter < 100000; ++iter) {
-        int depth = static_cast<int>(rng() % kMaxMortonDepth);  // room for one more level
+        int depth = static_cast<int>(rng() % kMaxOctreeDepth);  // room for one more level
         uint64_t key = randomKey(rng, depth);
         int octant = static_cast<int>(rng() & 7u);
         uint64_t child = childKey(key, octant);
@@ -193,11 +193,11 @@ TEST(Morton, ChildBoxOctantConvention) {
 // names. The root is [0, 2^21]^3 so that every cell boundary down to depth 21 is an exact float
 // and the cell centres (odd multiples of half a cell) are exact too: no rounding ambiguity.
 TEST(Morton, DescentWithChildBoxMatchesEncode) {
-    const float side = float(1u << kMaxMortonDepth);
+    const float side = float(1u << kMaxOctreeDepth);
     const Aabb root = {{0.0f, 0.0f, 0.0f}, {side, side, side}};
     std::mt19937_64 rng(2024);
     for (int iter = 0; iter < 5000; ++iter) {
-        int depth = static_cast<int>(rng() % (kMaxMortonDepth + 1));
+        int depth = static_cast<int>(rng() % (kMaxOctreeDepth + 1));
         uint32_t mask = depth == 0 ? 0u : ((1u << depth) - 1u);
         uint32_t cell[3];
         Vec3 p;
