@@ -89,6 +89,7 @@ json machineJson(const std::string& cudaDevice) {
             {"memory_bytes", memoryBytes()},
             {"os", std::string(u.sysname) + " " + u.release + " " + u.machine},
             {"compiler", compilerName()},
+            // "cuda": the toolkit was found at configure time. check-lists: not a name
             {"build", {{"optimized", optimized}, {"ndebug", ndebug}, {"cuda", cudaBuild}}},
             {"embree_version", RTC_VERSION_STRING},
             {"cuda_device", cudaDevice.empty() ? json(nullptr) : json(cudaDevice)},
