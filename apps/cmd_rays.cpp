@@ -1,7 +1,7 @@
-// octrace rays: the standard, seeded ray sets (validation/ray_sets.h, docs/CERTIFY.md) as a ray
-// file in the trace format, plus the manifest beside it that `octrace certify` reads.
+// octrace rays: the standard, seeded ray sets (validation/rays/ray_sets.h, docs/CERTIFY.md) as a
+// ray file in the trace format, plus the manifest beside it that `octrace certify` reads.
 //   R.npy  float32 (N, 8): ox oy oz dx dy dz tmin tmax (docs/TRACE_FORMAT.md)
-//   R.json the manifest (validation/ray_manifest.h): scene, seed, sets and their rows, camera
+//   R.json the manifest (validation/rays/ray_manifest.h): scene, seed, sets and their rows, camera
 //   T.npy  (--triangles) float32 (M, 9): each triangle's v0 v1 v2 in primitive id order
 #include <cstdio>
 #include <optional>
@@ -10,7 +10,7 @@
 #include "core/io/npy.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
-#include "validation/ray_manifest.h"
+#include "validation/rays/ray_manifest.h"
 
 namespace oct {
 namespace {

@@ -13,9 +13,9 @@
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
-#include "validation/cost_baseline.h"
-#include "validation/diff_image.h"
-#include "validation/report.h"
+#include "validation/regression/cost_baseline.h"
+#include "validation/report/diff_image.h"
+#include "validation/report/report.h"
 #include "validation/table1.h"
 #include "validation/validate.h"
 

@@ -15,11 +15,11 @@
 #include "core/octree/octree.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
-#include "validation/box_contract.h"
 #include "validation/certify.h"
-#include "validation/hit_validation.h"
-#include "validation/layout_structure.h"
-#include "validation/replication.h"
+#include "validation/exact/box_contract.h"
+#include "validation/exact/layout_structure.h"
+#include "validation/exact/replication.h"
+#include "validation/policy/hit_validation.h"
 
 namespace oct {
 

@@ -13,7 +13,7 @@
 
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
-#include "validation/report.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {

@@ -1,7 +1,7 @@
-// The standard ray sets (validation/ray_sets.h): validate's seeded sets, and every set of
+// The standard ray sets (validation/rays/ray_sets.h): validate's seeded sets, and every set of
 // `octrace rays`: reproducible to the byte (a pinned checksum), well formed, and the edges and
 // vertices rays sealed at their targets.
-#include "validation/ray_sets.h"
+#include "validation/rays/ray_sets.h"
 
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 #include "core/octree/octree.h"
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
-#include "validation/double_tracer.h"
 #include "validation/mesh_topology.h"
+#include "validation/policy/double_tracer.h"
 
 namespace oct {
 namespace {

@@ -1,5 +1,5 @@
-// Report fields (validation/report.h) and Table 1 (validation/table1.h).
-#include "validation/report.h"
+// Report fields (validation/report/report.h) and Table 1 (validation/table1.h).
+#include "validation/report/report.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "validation/double_tracer.h"
+#include "validation/policy/double_tracer.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "validation/film_compare.h"
+#include "validation/policy/film_compare.h"
 
 #include <algorithm>
 #include <cmath>

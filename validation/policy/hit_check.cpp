@@ -1,4 +1,4 @@
-#include "validation/hit_check.h"
+#include "validation/policy/hit_check.h"
 
 #include <cmath>
 

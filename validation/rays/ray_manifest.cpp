@@ -1,4 +1,4 @@
-#include "validation/ray_manifest.h"
+#include "validation/rays/ray_manifest.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "validation/exact_overlap.h"
+#include "validation/exact/exact_overlap.h"
 
 namespace oct {
 namespace {

@@ -1,4 +1,4 @@
-#include "validation/layout_structure.h"
+#include "validation/exact/layout_structure.h"
 
 #include <algorithm>
 #include <cstring>

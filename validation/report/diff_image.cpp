@@ -1,4 +1,4 @@
-#include "validation/diff_image.h"
+#include "validation/report/diff_image.h"
 
 #include <algorithm>
 #include <cmath>

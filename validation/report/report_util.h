@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "validation/hit_validation.h"
+#include "validation/policy/hit_validation.h"
 
 namespace oct {
 namespace report_detail {

@@ -1,4 +1,4 @@
-#include "validation/replication.h"
+#include "validation/exact/replication.h"
 
 #include <omp.h>
 
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/octree/morton.h"
-#include "validation/exact_overlap.h"
+#include "validation/exact/exact_overlap.h"
 
 namespace oct {
 namespace {

@@ -24,7 +24,7 @@
 #include <vector>
 
 #include "core/scene/scene.h"
-#include "validation/ray_sets.h"
+#include "validation/rays/ray_sets.h"
 
 namespace oct {
 

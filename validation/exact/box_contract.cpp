@@ -1,4 +1,4 @@
-#include "validation/box_contract.h"
+#include "validation/exact/box_contract.h"
 
 #include <gmp.h>
 

@@ -1,7 +1,7 @@
 // The per-ray check's report (validate and certify share it) and `octrace certify`'s report, in
 // the two forms with the same content: JSON (docs/CERTIFY.md lists the fields) and text.
-#include "validation/report.h"
-#include "validation/report_util.h"
+#include "validation/report/report.h"
+#include "validation/report/report_util.h"
 
 namespace oct {
 

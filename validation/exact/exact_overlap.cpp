@@ -1,4 +1,4 @@
-#include "validation/exact_overlap.h"
+#include "validation/exact/exact_overlap.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "validation/golden.h"
+#include "validation/regression/golden.h"
 
 #include <stb_image.h>
 
@@ -13,8 +13,8 @@
 #include "core/scene/load_scene.h"
 #include "cpu_ref/embree_backend.h"
 #include "cpu_ref/render_cpu.h"
-#include "validation/ray_manifest.h"
-#include "validation/report_util.h"
+#include "validation/rays/ray_manifest.h"
+#include "validation/report/report_util.h"
 
 namespace oct {
 namespace {

@@ -1,4 +1,4 @@
-#include "validation/hit_files.h"
+#include "validation/rays/hit_files.h"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-#include "validation/ray_sets.h"
+#include "validation/rays/ray_sets.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,10 +4,20 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
-#include "validation/certify.h"
+#include "core/geometry/ray.h"
 
 namespace oct {
+
+// A tracer's answers, one per ray: PREFIX.t.npy and PREFIX.prim.npy (docs/TRACE_FORMAT.md).
+struct HitArrays {
+    std::vector<float> t;       // +inf on a miss
+    std::vector<int32_t> prim;  // -1 on a miss; empty when primIds is false
+    bool primIds = true;        // false: certify distances only (--no-prim)
+    uint64_t count() const { return t.size(); }
+    Hit at(uint64_t i) const { return {t[i], primIds ? prim[i] : int32_t(-1)}; }
+};
 
 std::string hitTPath(const std::string& prefix);     // PREFIX.t.npy
 std::string hitPrimPath(const std::string& prefix);  // PREFIX.prim.npy

@@ -28,8 +28,8 @@
 
 #include "core/geometry/ray.h"
 #include "core/scene/scene.h"
-#include "validation/double_tracer.h"
-#include "validation/film_compare.h"
+#include "validation/policy/double_tracer.h"
+#include "validation/policy/film_compare.h"
 
 namespace oct {
 

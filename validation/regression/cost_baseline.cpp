@@ -1,4 +1,4 @@
-#include "validation/cost_baseline.h"
+#include "validation/regression/cost_baseline.h"
 
 #include <chrono>
 #include <cmath>
@@ -6,8 +6,8 @@
 
 #include "core/io/output_file.h"
 #include "core/octree/layout_registry.h"
-#include "validation/ray_manifest.h"
-#include "validation/report_util.h"
+#include "validation/rays/ray_manifest.h"
+#include "validation/report/report_util.h"
 
 namespace oct {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "core/render/camera.h"
 #include "core/render/frame.h"
-#include "validation/hit_check.h"
+#include "validation/policy/hit_check.h"
 
 namespace oct {
 

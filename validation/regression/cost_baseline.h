@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/golden.h"
+#include "validation/regression/golden.h"
 
 namespace oct {
 

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/hit_validation.h"
+#include "validation/policy/hit_validation.h"
 
 namespace oct {
 

@@ -1,4 +1,4 @@
-#include "validation/hit_validation.h"
+#include "validation/policy/hit_validation.h"
 
 #include <omp.h>
 

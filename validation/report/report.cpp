@@ -1,8 +1,8 @@
-#include "validation/report.h"
+#include "validation/report/report.h"
 
 #include <cmath>
 
-#include "validation/report_util.h"
+#include "validation/report/report_util.h"
 
 namespace oct {
 using nlohmann::json;
