@@ -10,13 +10,13 @@
 
 #include "apps/cli.h"
 #include "apps/policy_options.h"
+#include "bench/table1/table1.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
 #include "validation/regression/cost_baseline.h"
 #include "validation/report/diff_image.h"
 #include "validation/report/report.h"
-#include "validation/table1.h"
 #include "validation/validate.h"
 
 namespace oct {

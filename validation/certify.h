@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/mesh_topology.h"
+#include "core/scene/mesh_topology.h"
 #include "validation/policy/hit_validation.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_sets.h"

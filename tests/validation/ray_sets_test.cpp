@@ -8,9 +8,9 @@
 #include <cmath>
 
 #include "core/octree/octree.h"
+#include "core/scene/mesh_topology.h"
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
-#include "validation/mesh_topology.h"
 #include "validation/policy/double_tracer.h"
 
 namespace oct {

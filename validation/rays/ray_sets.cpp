@@ -8,7 +8,7 @@
 
 #include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
-#include "validation/mesh_topology.h"
+#include "core/scene/mesh_topology.h"
 
 namespace oct {
 namespace {

@@ -165,20 +165,6 @@ json toJson(const ValidationReport& r) {
     return j;
 }
 
-json toJson(const std::vector<Table1Row>& rows) {
-    json a = json::array();
-    for (const Table1Row& t : rows)
-        a.push_back({{"name", t.name},
-                     {"path", t.path},
-                     {"vertices", t.vertices},
-                     {"faces", t.faces},
-                     {"octree_faces", t.octreeFaces},
-                     {"depth", t.depth},
-                     {"nodes", t.nodes},
-                     {"build_seconds", t.buildSeconds}});
-    return a;
-}
-
 std::string humanSummary(const ReplicationReport& r) {
     std::string s;
     s +=
@@ -329,17 +315,6 @@ std::string humanSummary(const ValidationReport& r) {
              r.replication ? (r.replication->passes() ? ", replication ok" : ", replication FAILED")
                            : "",
              r.seconds);
-    return s;
-}
-
-std::string humanTable1(const std::vector<Table1Row>& rows) {
-    std::string s = fmt("%-24s %10s %10s %13s %8s %6s %9s\n", "model", "vertices", "faces",
-                        "octree faces", "ratio", "depth", "build s");
-    for (const Table1Row& t : rows)
-        s += fmt("%-24s %10llu %10llu %13llu %8.3f %6d %9.2f\n", t.name.c_str(),
-                 (unsigned long long)t.vertices, (unsigned long long)t.faces,
-                 (unsigned long long)t.octreeFaces,
-                 t.faces ? double(t.octreeFaces) / double(t.faces) : 0.0, t.depth, t.buildSeconds);
     return s;
 }
 

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "validation/certify.h"
-#include "validation/table1.h"
 #include "validation/validate.h"
 
 namespace oct {
@@ -16,11 +15,9 @@ namespace oct {
 nlohmann::json toJson(const ClassCounts& c);
 nlohmann::json toJson(const ReplicationReport& r);
 nlohmann::json toJson(const ValidationReport& r);
-nlohmann::json toJson(const std::vector<Table1Row>& rows);
 
 std::string humanSummary(const ReplicationReport& r);
 std::string humanSummary(const ValidationReport& r);
-std::string humanTable1(const std::vector<Table1Row>& rows);
 
 // The per-ray check (certify.h), shared by validate's and certify's reports: counts per set,
 // reasons, the first wrong and ambiguous rays, the leaks.

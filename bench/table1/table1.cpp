@@ -1,6 +1,7 @@
-#include "validation/table1.h"
+#include "bench/table1/table1.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -53,6 +54,36 @@ Table1Row table1Row(const std::string& path, const BuildParams& params) {
     r.nodes = tree.nodes.size();
     r.buildSeconds = tree.buildSeconds;
     return r;
+}
+
+nlohmann::json toJson(const std::vector<Table1Row>& rows) {
+    nlohmann::json a = nlohmann::json::array();
+    for (const Table1Row& t : rows)
+        a.push_back({{"name", t.name},
+                     {"path", t.path},
+                     {"vertices", t.vertices},
+                     {"faces", t.faces},
+                     {"octree_faces", t.octreeFaces},
+                     {"depth", t.depth},
+                     {"nodes", t.nodes},
+                     {"build_seconds", t.buildSeconds}});
+    return a;
+}
+
+std::string humanTable1(const std::vector<Table1Row>& rows) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%-24s %10s %10s %13s %8s %6s %9s\n", "model", "vertices",
+                  "faces", "octree faces", "ratio", "depth", "build s");
+    std::string s = line;
+    for (const Table1Row& t : rows) {
+        std::snprintf(line, sizeof line, "%-24s %10llu %10llu %13llu %8.3f %6d %9.2f\n",
+                      t.name.c_str(), (unsigned long long)t.vertices, (unsigned long long)t.faces,
+                      (unsigned long long)t.octreeFaces,
+                      t.faces ? double(t.octreeFaces) / double(t.faces) : 0.0, t.depth,
+                      t.buildSeconds);
+        s += line;
+    }
+    return s;
 }
 
 }  // namespace oct

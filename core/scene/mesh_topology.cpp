@@ -1,4 +1,4 @@
-#include "validation/mesh_topology.h"
+#include "core/scene/mesh_topology.h"
 
 #include <algorithm>
 #include <cstring>

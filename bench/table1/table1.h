@@ -1,8 +1,10 @@
 // The paper's Table 1 (Barboza & Clua 2011) for our meshes: name, vertices, faces and "octree
 // faces", the sum over leaves of their primitive list lengths (a triangle in k leaves counts
-// k times), for the committed meshes and the fetched ones in meshes/cache/.
+// k times), for the committed meshes and the fetched ones in meshes/cache/ (`octrace validate
+// --table1`).
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -26,5 +28,9 @@ struct Table1Row {
 std::vector<std::string> table1Meshes(const std::string& dir);
 
 Table1Row table1Row(const std::string& path, const BuildParams& params);
+
+// The table as JSON (one object per row) and as text (a header and one line per row).
+nlohmann::json toJson(const std::vector<Table1Row>& rows);
+std::string humanTable1(const std::vector<Table1Row>& rows);
 
 }  // namespace oct

@@ -1,12 +1,14 @@
-// Which triangles share an edge (validation/mesh_topology.h): closed and open meshes, a
+// Which triangles share an edge (core/scene/mesh_topology.h): closed and open meshes, a
 // non-manifold edge, welding by position, and the fans around vertices.
-#include "validation/mesh_topology.h"
+#include "core/scene/mesh_topology.h"
 
 #include <gtest/gtest.h>
 
 #include <set>
 
-#include "tests/validation/fixtures.h"
+#include "core/scene/grid_cloud.h"
+#include "core/scene/load_scene.h"
+#include "tests/paths.h"
 
 namespace oct {
 namespace {

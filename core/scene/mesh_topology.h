@@ -5,8 +5,8 @@
 // the file's vertex list says (STL has none; OBJ/PLY often split vertices at UV seams).
 //
 // A mesh is closed when it is edge-manifold without boundary: every edge belongs to exactly two
-// triangles. `octrace info` prints it; the edges/vertices ray sets (ray_sets.h) and the leak
-// check of `octrace certify` (certify.h) use the adjacency.
+// triangles. `octrace info` prints it; the edges/vertices ray sets (validation/rays/ray_sets.h)
+// and the leak check of `octrace certify` (validation/certify.h) use the adjacency.
 #pragma once
 
 #include <array>
