@@ -9,15 +9,13 @@
 namespace oct {
 namespace {
 
-V3<double> d3(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
-
 struct BoxD {
-    V3<double> c, h;
+    DVec3 c, h;
 };
 
 // Centre and half size in double: (lo + hi) / 2 and (hi - lo) / 2 of floats are exact.
 BoxD boxD(const Aabb& b) {
-    V3<double> lo = d3(b.lo), hi = d3(b.hi);
+    DVec3 lo = toDouble(b.lo), hi = toDouble(b.hi);
     return {{(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5},
             {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5}};
 }
@@ -30,7 +28,7 @@ double sphereBoxDistance(const Sphere& s, const Aabb& box) {
 
 bool doubleTriangleBoxOverlap(const Triangle& tri, const Aabb& box) {
     BoxD b = boxD(box);
-    return triBoxOverlap(b.c, b.h, d3(tri.v0), d3(tri.v1), d3(tri.v2));
+    return triBoxOverlap(b.c, b.h, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2));
 }
 
 bool doubleSphereBoxOverlap(const Sphere& s, const Aabb& box) {
@@ -42,24 +40,24 @@ bool doubleSphereBoxOverlap(const Sphere& s, const Aabb& box) {
 double triangleBoxGap(const Triangle& tri, const Aabb& box) {
     using namespace tribox_detail;
     BoxD b = boxD(box);
-    V3<double> v0 = sub(d3(tri.v0), b.c), v1 = sub(d3(tri.v1), b.c), v2 = sub(d3(tri.v2), b.c);
+    DVec3 v0 = toDouble(tri.v0) - b.c, v1 = toDouble(tri.v1) - b.c, v2 = toDouble(tri.v2) - b.c;
     double gap = 0.0;
     // Gap on axis a, in units of box growth: a separates the box grown by delta exactly when
     // (min p - rad) > delta * |a|_1 (or the mirrored condition).
-    auto axis = [&](V3<double> a) {
+    auto axis = [&](DVec3 a) {
         double l1 = ab(a.x) + ab(a.y) + ab(a.z);
         if (l1 == 0.0) return;  // degenerate axis: never separates
-        double p0 = dt(a, v0), p1 = dt(a, v1), p2 = dt(a, v2);
+        double p0 = dot(a, v0), p1 = dot(a, v1), p2 = dot(a, v2);
         double rad = ab(a.x) * b.h.x + ab(a.y) * b.h.y + ab(a.z) * b.h.z;
         double g = std::max(mn3(p0, p1, p2) - rad, -rad - mx3(p0, p1, p2));
         gap = std::max(gap, g / l1);
     };
-    const V3<double> units[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    V3<double> e[3] = {sub(v1, v0), sub(v2, v1), sub(v0, v2)};
+    const DVec3 units[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    DVec3 e[3] = {v1 - v0, v2 - v1, v0 - v2};
     for (const auto& u : units) axis(u);
     for (const auto& u : units)
-        for (const auto& ej : e) axis(crs(u, ej));
-    axis(crs(e[0], e[1]));
+        for (const auto& ej : e) axis(cross(u, ej));
+    axis(cross(e[0], e[1]));
     return gap;
 }
 

@@ -5,15 +5,6 @@
 namespace oct {
 namespace {
 
-DVec3 d3(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
-DVec3 operator+(DVec3 a, DVec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-DVec3 operator-(DVec3 a, DVec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-DVec3 operator*(DVec3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(DVec3 a, DVec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-DVec3 cross(DVec3 a, DVec3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-double norm(DVec3 a) { return std::sqrt(dot(a, a)); }
 double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
 
 // Squared distance between segments p1q1 and p2q2 (Ericson, Real-Time Collision Detection,
@@ -73,7 +64,7 @@ DVec3 closestOnTriangle(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
 }
 
 double pointTriangleDist(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
-    return norm(p - closestOnTriangle(p, a, b, c));
+    return length(p - closestOnTriangle(p, a, b, c));
 }
 
 // Distance from p to the segment a + s (b - a), s in [0, 1].
@@ -81,7 +72,7 @@ double pointSegmentDist(DVec3 p, DVec3 a, DVec3 b) {
     DVec3 ab = b - a;
     double l2 = dot(ab, ab);
     double s = l2 > 0.0 ? clamp01(dot(p - a, ab) / l2) : 0.0;
-    return norm(p - (a + ab * s));
+    return length(p - (a + ab * s));
 }
 
 // Watertight ray/triangle test in double: the three signed volumes of the ray with each edge
@@ -150,28 +141,28 @@ std::string reasonNames(uint32_t reasons) {
 }
 
 DoubleRay toDoubleRay(const Ray& r) {
-    return {d3(r.org), d3(r.dir), double(r.tmin), double(r.tmax)};
+    return {toDouble(r.org), toDouble(r.dir), double(r.tmin), double(r.tmax)};
 }
 
 DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
     : scene_(&scene), count_(scene.primitiveCount()), tol_(tol) {
     Aabb b = scene.bounds();
-    DVec3 lo = d3(b.lo), hi = d3(b.hi);
+    DVec3 lo = toDouble(b.lo), hi = toDouble(b.hi);
     sceneCentre_ = (lo + hi) * 0.5;
-    sceneRadius_ = 0.5 * norm(hi - lo);
+    sceneRadius_ = 0.5 * length(hi - lo);
     boundCentre_.resize(count_);
     boundRadius_.resize(count_);
     for (uint32_t i = 0; i < count_; ++i) {
         if (scene.kind == PrimKind::Triangles) {
             const Triangle& t = scene.triangles[i];
-            DVec3 v[3] = {d3(t.v0), d3(t.v1), d3(t.v2)};
+            DVec3 v[3] = {toDouble(t.v0), toDouble(t.v1), toDouble(t.v2)};
             DVec3 c = (v[0] + v[1] + v[2]) * (1.0 / 3.0);
             double r = 0.0;
-            for (const DVec3& p : v) r = std::max(r, norm(p - c));
+            for (const DVec3& p : v) r = std::max(r, length(p - c));
             boundCentre_[i] = c;
             boundRadius_[i] = r * (1.0 + 1e-12);
         } else {
-            boundCentre_[i] = d3(scene.spheres[i].center);
+            boundCentre_[i] = toDouble(scene.spheres[i].center);
             boundRadius_[i] = double(scene.spheres[i].radius);
         }
     }
@@ -181,10 +172,10 @@ bool DoubleTracer::hit(uint32_t prim, const DoubleRay& r, double& t) const {
     if (prim >= count_) return false;
     if (scene_->kind == PrimKind::Triangles) {
         const Triangle& tri = scene_->triangles[prim];
-        return rayTriangle(r, d3(tri.v0), d3(tri.v1), d3(tri.v2), t);
+        return rayTriangle(r, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2), t);
     }
     const Sphere& s = scene_->spheres[prim];
-    return raySphere(r, d3(s.center), double(s.radius), t);
+    return raySphere(r, toDouble(s.center), double(s.radius), t);
 }
 
 Hit DoubleTracer::closest(const DoubleRay& r) const {
@@ -213,14 +204,14 @@ std::vector<std::pair<double, uint32_t>> DoubleTracer::allHits(const DoubleRay& 
 double DoubleTracer::clipFar(const DoubleRay& r) const {
     // Nothing lies beyond the scene's bounding sphere: clip an infinite ray there so the
     // distance computations below work on a finite segment.
-    double dl = norm(r.dir);
-    double far = (norm(r.org - sceneCentre_) + sceneRadius_ + tol_.distance) / dl;
+    double dl = length(r.dir);
+    double far = (length(r.org - sceneCentre_) + sceneRadius_ + tol_.distance) / dl;
     return std::max(r.tmin, std::min(r.tmax, far));
 }
 
 uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
     const Triangle& tri = scene_->triangles[prim];
-    DVec3 v[3] = {d3(tri.v0), d3(tri.v1), d3(tri.v2)};
+    DVec3 v[3] = {toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2)};
     const double tol = tol_.distance;
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     double edgeDist = INFINITY;
@@ -241,26 +232,26 @@ uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, dou
     if (edgeDist <= tol) reasons |= kEdgeOrVertex;
     if (endDist <= tol) reasons |= kRangeEnd;
     DVec3 n = cross(v[1] - v[0], v[2] - v[0]);
-    double nl = norm(n);
-    double maxEdge = std::max({norm(v[1] - v[0]), norm(v[2] - v[1]), norm(v[0] - v[2])});
+    double nl = length(n);
+    double maxEdge = std::max({length(v[1] - v[0]), length(v[2] - v[1]), length(v[0] - v[2])});
     // Smallest altitude = twice the area over the longest edge.
     if (!(nl > tol * maxEdge)) reasons |= kDegenerate;
-    double cosine = nl > 0.0 ? std::fabs(dot(n, r.dir)) / (nl * norm(r.dir)) : 0.0;
+    double cosine = nl > 0.0 ? std::fabs(dot(n, r.dir)) / (nl * length(r.dir)) : 0.0;
     if (cosine <= tol_.grazingCos) reasons |= kGrazing;
     return reasons;
 }
 
 uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
     const Sphere& s = scene_->spheres[prim];
-    DVec3 c = d3(s.center);
+    DVec3 c = toDouble(s.center);
     double radius = double(s.radius);
     const double tol = tol_.distance;
     uint32_t reasons = 0;
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     if (std::fabs(pointSegmentDist(c, p, q) - radius) <= tol) reasons |= kTangent;
-    bool endNear = std::fabs(norm(p - c) - radius) <= tol;
+    bool endNear = std::fabs(length(p - c) - radius) <= tol;
     if (std::isfinite(r.tmax) && r.tmax <= tFar)
-        endNear = endNear || std::fabs(norm(q - c) - radius) <= tol;
+        endNear = endNear || std::fabs(length(q - c) - radius) <= tol;
     if (endNear) reasons |= kRangeEnd;
     return reasons;
 }
@@ -276,10 +267,10 @@ double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
     if (prim >= count_) return INFINITY;
     if (scene_->kind == PrimKind::Triangles) {
         const Triangle& t = scene_->triangles[prim];
-        return pointTriangleDist(p, d3(t.v0), d3(t.v1), d3(t.v2));
+        return pointTriangleDist(p, toDouble(t.v0), toDouble(t.v1), toDouble(t.v2));
     }
     const Sphere& s = scene_->spheres[prim];
-    return std::fabs(norm(p - d3(s.center)) - double(s.radius));
+    return std::fabs(length(p - toDouble(s.center)) - double(s.radius));
 }
 
 int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
@@ -287,7 +278,7 @@ int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
     dist = INFINITY;
     for (uint32_t i = 0; i < count_; ++i) {
         // The bounding sphere bounds the distance from below: skip what cannot be nearer.
-        double lower = norm(p - boundCentre_[i]) - boundRadius_[i];
+        double lower = length(p - boundCentre_[i]) - boundRadius_[i];
         if (lower > dist) continue;
         double d = distanceTo(i, p);
         if (d < dist) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/geometry/ray.h"
+#include "core/geometry/vec3t.h"
 #include "core/scene/scene.h"
 
 namespace oct {
@@ -36,10 +37,6 @@ enum AmbiguityReason : uint32_t {
 constexpr int kReasonCount = 12;
 const char* reasonName(int bit);            // "edge_or_vertex", "grazing", ...
 std::string reasonNames(uint32_t reasons);  // comma-separated, "" for none
-
-struct DVec3 {
-    double x, y, z;
-};
 
 struct DoubleRay {
     DVec3 org, dir;

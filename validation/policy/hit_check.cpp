@@ -48,7 +48,7 @@ bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const {
     if (ours.prim < 0 || malformed(ours)) return false;
     const DoubleRay dr = toDoubleRay(ray);
     const double t = double(ours.t);
-    const DVec3 p = {dr.org.x + dr.dir.x * t, dr.org.y + dr.dir.y * t, dr.org.z + dr.dir.z * t};
+    const DVec3 p = dr.org + dr.dir * t;
     return truth_.distanceTo(uint32_t(ours.prim), p) <= truth_.tolerance().distance;
 }
 
@@ -106,8 +106,7 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
         bool confirmed = truth_.hit(q, dr, tq) && std::fabs(tq - tOurs) <= tTol;
         if (!confirmed) {
             uint32_t r = truth_.touchiness(q, dr);
-            DVec3 p = {dr.org.x + dr.dir.x * tOurs, dr.org.y + dr.dir.y * tOurs,
-                       dr.org.z + dr.dir.z * tOurs};
+            DVec3 p = dr.org + dr.dir * tOurs;
             if (r == 0 && truth_.distanceTo(q, p) <= truth_.tolerance().distance) r = kGrazing;
             if (r == 0) {
                 clean = true;

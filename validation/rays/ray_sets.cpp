@@ -6,6 +6,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "core/geometry/vec3t.h"
 #include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
 #include "core/scene/mesh_topology.h"
@@ -72,35 +73,24 @@ std::vector<float> boundaryPlanes(float lo, float hi, int depth) {
     return cuts;
 }
 
-// Double-precision helpers for the acceptance tests (never for the stored floats).
-struct D3 {
-    double x, y, z;
-};
-D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
-D3 operator-(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 operator+(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-D3 operator*(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dot(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 cross(D3 a, D3 b) {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+// Double precision (DVec3) is for the acceptance tests, never for the stored floats.
+DVec3 triangleNormal(const Triangle& t) {
+    return cross(toDouble(t.v1) - toDouble(t.v0), toDouble(t.v2) - toDouble(t.v0));
 }
-double norm(D3 a) { return std::sqrt(dot(a, a)); }
 
-D3 triangleNormal(const Triangle& t) { return cross(d3(t.v1) - d3(t.v0), d3(t.v2) - d3(t.v0)); }
-
-double absCos(D3 n, D3 d) { return std::fabs(dot(n, d)) / (norm(n) * norm(d)); }
+double absCos(DVec3 n, DVec3 d) { return std::fabs(dot(n, d)) / (length(n) * length(d)); }
 
 // Points seen along a direction: 2-D coordinates in a plane perpendicular to it.
 struct Projection {
-    D3 u, w;
-    explicit Projection(D3 d) {
-        D3 a = std::fabs(d.x) < 0.6 ? D3{1, 0, 0} : D3{0, 1, 0};
+    DVec3 u, w;
+    explicit Projection(DVec3 d) {
+        DVec3 a = std::fabs(d.x) < 0.6 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
         u = cross(d, a);
-        u = u * (1.0 / norm(u));
+        u = u * (1.0 / length(u));
         w = cross(d, u);
-        w = w * (1.0 / norm(w));
+        w = w * (1.0 / length(w));
     }
-    void operator()(D3 p, double& x, double& y) const {
+    void operator()(DVec3 p, double& x, double& y) const {
         x = dot(p, u);
         y = dot(p, w);
     }
@@ -189,18 +179,18 @@ void axis(Context& c, Rng& rng, uint64_t n, RaySet& out) {
 void aimAt(Vec3 p, Vec3 from, Vec3& o, Vec3& dir, double& t) {
     o = from;
     dir = normalize(p - o);
-    D3 dd = d3(dir);
-    t = dot(d3(p) - d3(o), dd) / dot(dd, dd);
+    DVec3 dd = toDouble(dir);
+    t = dot(toDouble(p) - toDouble(o), dd) / dot(dd, dd);
 }
 
 // Is the edge target sealed for this ray: seen along it, the two triangles lie on both sides of
 // the edge and cover a disc of radius `margin` around p, each at |cos| >= kEdgeMinCos.
 bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
-    const D3 d = d3(dir);
+    const DVec3 d = toDouble(dir);
     const Projection proj(d);
     auto at = [&](Vec3 v) {
         P2 q;
-        proj(d3(v), q.x, q.y);
+        proj(toDouble(v), q.x, q.y);
         return q;
     };
     const MeshTopology& t = *c.topo;
@@ -223,24 +213,26 @@ bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
 }
 
 bool vertexSealed(const Context& c, uint32_t v, const std::vector<uint32_t>& link, Vec3 dir) {
-    const D3 d = d3(dir);
+    const DVec3 d = toDouble(dir);
     const MeshTopology& t = *c.topo;
     for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k)
         if (absCos(triangleNormal(c.scene.triangles[t.vertexTriangles[k]]), d) < kVertexMinCos)
             return false;
     const Projection proj(d);
     P2 q;
-    proj(d3(t.vertices[v]), q.x, q.y);
+    proj(toDouble(t.vertices[v]), q.x, q.y);
     std::vector<P2> poly(link.size());
-    for (size_t i = 0; i < link.size(); ++i) proj(d3(t.vertices[link[i]]), poly[i].x, poly[i].y);
+    for (size_t i = 0; i < link.size(); ++i)
+        proj(toDouble(t.vertices[link[i]]), poly[i].x, poly[i].y);
     for (size_t i = 0; i < poly.size(); ++i)
         if (segmentDistance(q, poly[i], poly[(i + 1) % poly.size()]) < c.margin) return false;
     return windingNumber(poly, q) != 0;
 }
 
 double longestSide(const Triangle& t) {
-    return std::max(
-        {norm(d3(t.v1) - d3(t.v0)), norm(d3(t.v2) - d3(t.v1)), norm(d3(t.v0) - d3(t.v2))});
+    return std::max({length(toDouble(t.v1) - toDouble(t.v0)),
+                     length(toDouble(t.v2) - toDouble(t.v1)),
+                     length(toDouble(t.v0) - toDouble(t.v2))});
 }
 
 [[noreturn]] void notPlaced(const Context& c, const char* set, uint64_t placed, uint64_t n) {
@@ -262,10 +254,10 @@ void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
             const Vec3 p = va + (vb - va) * float(rng.range(0.2, 0.8));  // float, as a hit point
             const Triangle &ta = c.scene.triangles[e.tri[0]], &tb = c.scene.triangles[e.tri[1]];
-            D3 front = triangleNormal(ta) * (1.0 / norm(triangleNormal(ta))) +
-                       triangleNormal(tb) * (1.0 / norm(triangleNormal(tb)));
+            DVec3 front = triangleNormal(ta) * (1.0 / length(triangleNormal(ta))) +
+                          triangleNormal(tb) * (1.0 / length(triangleNormal(tb)));
             Vec3 d = unitVector(rng);
-            if (dot(d3(d), front) > 0) d = -d;  // coming from the front side
+            if (dot(toDouble(d), front) > 0) d = -d;  // coming from the front side
             const double r = std::max(longestSide(ta), longestSide(tb)) * rng.range(1.0, 3.0);
             Vec3 o, dir;
             double tt;
@@ -289,7 +281,7 @@ void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
         for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
             const size_t pick = rng.below(c.fanVertices.size());
             const uint32_t v = c.fanVertices[pick];
-            D3 front = {0, 0, 0};
+            DVec3 front = {0, 0, 0};
             double r = 0.0;
             for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k) {
                 const Triangle& tri = c.scene.triangles[t.vertexTriangles[k]];
@@ -297,7 +289,7 @@ void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
                 r = std::max(r, longestSide(tri));
             }
             Vec3 d = unitVector(rng);
-            if (dot(d3(d), front) > 0) d = -d;
+            if (dot(toDouble(d), front) > 0) d = -d;
             r *= rng.range(1.0, 3.0);
             const Vec3 p = t.vertices[v];
             Vec3 o, dir;
@@ -328,14 +320,14 @@ void grazing(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     for (uint64_t i = 0; i < n; ++i) {
         const Triangle& tri = tris[rng.below(tris.size())];
         const Vec3 p = pointOn(rng, tri);
-        D3 nrm = triangleNormal(tri);
-        nrm = nrm * (1.0 / norm(nrm));
-        D3 g;
+        DVec3 nrm = triangleNormal(tri);
+        nrm = nrm * (1.0 / length(nrm));
+        DVec3 g;
         do {  // a direction in the plane
-            D3 r = d3(unitVector(rng));
+            DVec3 r = toDouble(unitVector(rng));
             g = r - nrm * dot(r, nrm);
-        } while (!(norm(g) > 1e-3));
-        g = g * (1.0 / norm(g));
+        } while (!(length(g) > 1e-3));
+        g = g * (1.0 / length(g));
         // Three draws, one statement each: the operands of one expression may be evaluated in
         // any order, so a product of draws gave compiler-chosen rays. This is the order GCC 12
         // took, so the bytes (and the pinned checksum) are unchanged.
@@ -343,7 +335,7 @@ void grazing(Context& c, Rng& rng, uint64_t n, RaySet& out) {
         const double scale = rng.range(0.5, 1.0);
         const double sign = rng.below(2) ? 1.0 : -1.0;
         double s = cosine * scale * sign;
-        D3 dd = g * std::sqrt(1.0 - s * s) + nrm * s;
+        DVec3 dd = g * std::sqrt(1.0 - s * s) + nrm * s;
         const Vec3 d = {float(dd.x), float(dd.y), float(dd.z)};
         const float r = float(longestSide(tri) * rng.range(1.0, 2.0));
         push(out, p - d * r, normalize(d), 0.0f, INFINITY);
@@ -355,10 +347,10 @@ void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     for (uint64_t i = 0; i < n; ++i) {
         const Triangle& tri = tris[rng.below(tris.size())];
         const Vec3 p = pointOn(rng, tri);
-        const D3 nrm = triangleNormal(tri);
+        const DVec3 nrm = triangleNormal(tri);
         Vec3 d;
         do d = unitVector(rng);
-        while (absCos(nrm, d3(d)) < 0.2);
+        while (absCos(nrm, toDouble(d)) < 0.2);
         const float r = float(longestSide(tri) * rng.range(0.5, 1.5));
         if (i % 4 == 0) {  // starts on the surface
             push(out, p, d, 0.0f, INFINITY);
@@ -367,7 +359,7 @@ void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
         const Vec3 o = p - d * r;
         const Vec3 dir = normalize(p - o);
         // The ray parameter where the stored float ray meets the triangle's plane.
-        const double th = dot(nrm, d3(tri.v0) - d3(o)) / dot(nrm, d3(dir));
+        const double th = dot(nrm, toDouble(tri.v0) - toDouble(o)) / dot(nrm, toDouble(dir));
         const float tf = float(th);
         if (i % 4 == 1) push(out, o, dir, 0.0f, tf);      // ends exactly at the surface
         if (i % 4 == 2) push(out, o, dir, tf, INFINITY);  // starts exactly there
