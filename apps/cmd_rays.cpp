@@ -28,29 +28,28 @@ struct RaysOptions {
 };
 
 // --set: names or "all" (every set; on a point cloud, those that need no triangles).
-std::vector<RaySetKind> parseSets(const std::string& text, const Scene& scene,
-                                  std::vector<std::string>& notes) {
-    std::vector<RaySetKind> out;
+std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
+                                         std::vector<std::string>& notes) {
+    std::vector<const RaySetDesc*> out;
     for (const std::string& name : splitList(text)) {
         if (name == "all") {
-            for (int k = 0; k < kRaySetKindCount; ++k) {
-                RaySetKind kind = RaySetKind(k);
-                if (needsTriangles(kind) && scene.kind != PrimKind::Triangles) {
-                    notes.push_back(std::string("set ") + raySetName(kind) +
+            for (const RaySetDesc& kind : standardRaySets()) {
+                if (kind.needsTriangles && scene.kind != PrimKind::Triangles) {
+                    notes.push_back(std::string("set ") + kind.name +
                                     " left out: it needs a triangle mesh");
                     continue;
                 }
-                if (std::find(out.begin(), out.end(), kind) == out.end()) out.push_back(kind);
+                if (std::find(out.begin(), out.end(), &kind) == out.end()) out.push_back(&kind);
             }
             continue;
         }
-        std::optional<RaySetKind> k = findRaySet(name);
+        const RaySetDesc* k = findRaySet(name);
         if (!k)
             throw CLI::ValidationError("--set",
                                        "unknown set '" + name + "' (" + raySetNames() + ", all)");
-        if (std::find(out.begin(), out.end(), *k) != out.end())
+        if (std::find(out.begin(), out.end(), k) != out.end())
             throw CLI::ValidationError("--set", "'" + name + "' is named twice");
-        out.push_back(*k);
+        out.push_back(k);
     }
     if (out.empty())
         throw CLI::ValidationError("--set",
@@ -85,7 +84,8 @@ void runRays(const RaysOptions& o) {
     // The shadow set starts at the reference's camera hits: Embree from the backend list.
     std::unique_ptr<SceneTracer> reference;
     BuiltScene bare = bareScene(scene);
-    if (std::find(spec.sets.begin(), spec.sets.end(), RaySetKind::Shadow) != spec.sets.end()) {
+    if (std::any_of(spec.sets.begin(), spec.sets.end(),
+                    [](const RaySetDesc* k) { return k->needsReference; })) {
         std::string note;
         reference = resolveBackend("embree", note).prepare(bare);
     }

@@ -197,7 +197,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     for (const RaySetRange& s : rays.sets) {
         SetCertification sc;
         sc.range = s;
-        sc.adversarial = isAdversarialSet(s.name);
+        const RaySetDesc* kind = findRaySet(s.name);
+        sc.adversarial = kind && kind->adversarial;
         std::vector<Candidate> cand;
         const bool camera = s.name == "camera";
         if (camera) {

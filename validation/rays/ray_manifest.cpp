@@ -216,16 +216,15 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     spec.seed = m.seed;
     spec.count = m.count;
     for (const RaySetRange& r : m.sets) {
-        std::optional<RaySetKind> k = findRaySet(r.name);
+        const RaySetDesc* k = findRaySet(r.name);
         if (!k) {
             notes.push_back("set '" + r.name + "' is not a standard set: rows only");
             continue;
         }
-        spec.sets.push_back(*k);  // shadow is kept for the seeded sets' split, then skipped
+        spec.sets.push_back(k);  // shadow is kept for the seeded sets' split, then skipped
     }
     bool needCamera = false;
-    for (RaySetKind k : spec.sets)
-        needCamera = needCamera || k == RaySetKind::Camera || k == RaySetKind::Shadow;
+    for (const RaySetDesc* k : spec.sets) needCamera = needCamera || !k->seeded;
     if (needCamera) {
         if (!m.camera)
             throw std::runtime_error("ray manifest '" + mp +
@@ -235,15 +234,15 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     }
     RaySetSpec rebuildSpec = spec;
     rebuildSpec.sets.clear();
-    for (RaySetKind k : spec.sets)
-        if (k != RaySetKind::Shadow) rebuildSpec.sets.push_back(k);
+    for (const RaySetDesc* k : spec.sets)
+        if (!k->needsReference) rebuildSpec.sets.push_back(k);
     // The seeded shares follow the full list; rebuild each seeded set with its own share.
     RaySet rebuilt;
     {
         RaySetSpec one = spec;
-        for (RaySetKind k : rebuildSpec.sets) {
+        for (const RaySetDesc* k : rebuildSpec.sets) {
             one.sets = {k};
-            one.count = isSeededSet(k) ? seededShare(spec, k) : 0;
+            one.count = k->seeded ? seededShare(spec, *k) : 0;
             RaySet part = makeRaySet(scene, one);
             const uint64_t offset = rebuilt.count();
             for (RayTarget t : part.targets) {
@@ -251,12 +250,14 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
                 rebuilt.targets.push_back(t);
             }
             rebuilt.rays.insert(rebuilt.rays.end(), part.rays.begin(), part.rays.end());
-            rebuilt.sets.push_back({raySetName(k), offset, part.count()});
+            rebuilt.sets.push_back({k->name, offset, part.count()});
         }
     }
     for (const RaySetRange& f : out.sets) {
-        if (f.name == "shadow") {
-            notes.push_back("set 'shadow' depends on the reference's camera hits: taken as given");
+        const RaySetDesc* k = findRaySet(f.name);
+        if (k && k->needsReference) {
+            notes.push_back("set '" + f.name +
+                            "' depends on the reference's camera hits: taken as given");
             continue;
         }
         const RaySetRange* r = rebuilt.find(f.name);

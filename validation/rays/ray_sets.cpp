@@ -14,9 +14,6 @@
 namespace oct {
 namespace {
 
-constexpr const char* kNames[kRaySetKindCount] = {
-    "camera", "shadow", "around", "inside", "axis", "edges", "vertices", "grazing", "tmin-tmax"};
-
 // Radius, relative to the scene's extent, of the disc a sealed target must be covered on.
 constexpr double kSealMargin = 1e-5;
 constexpr double kEdgeMinCos = 0.1, kVertexMinCos = 0.05;
@@ -29,15 +26,35 @@ uint64_t splitmix64(uint64_t x) {
     return x ^ (x >> 31);
 }
 
-struct Rng {
+}  // namespace
+
+struct RaySetRng {
     std::mt19937_64 engine;
     double u01() { return double(engine() >> 11) * 0x1p-53; }  // [0, 1)
     double range(double lo, double hi) { return lo + (hi - lo) * u01(); }
     uint64_t below(uint64_t n) { return engine() % n; }
 };
 
-Rng streamFor(uint64_t seed, RaySetKind k) {
-    return Rng{std::mt19937_64(splitmix64(seed + 0x9E3779B97F4A7C15ull * (uint64_t(k) + 1)))};
+struct RaySetContext {
+    const Scene& scene;
+    const CameraOptions& camera;  // the camera and shadow sets
+    const TraceBatch& reference;  // the shadow set's camera hits
+    Aabb bounds, root;
+    Vec3 centre;
+    float radius;
+    double margin;  // kSealMargin x extent
+    std::optional<MeshTopology> topo;
+    std::vector<uint32_t> interiorEdges, fanVertices;
+    std::vector<std::vector<uint32_t>> links;  // per fan vertex
+};
+
+namespace {
+
+using Rng = RaySetRng;
+using Context = RaySetContext;
+
+Rng streamFor(uint64_t seed, const RaySetDesc& k) {
+    return Rng{std::mt19937_64(splitmix64(seed + 0x9E3779B97F4A7C15ull * (uint64_t(k.id) + 1)))};
 }
 
 // Uniform on the sphere by rejection from the cube: no sin/cos, so the same bits everywhere.
@@ -126,17 +143,6 @@ void push(RaySet& out, Vec3 o, Vec3 d, float tmin, float tmax) {
     const float r[8] = {o.x, o.y, o.z, d.x, d.y, d.z, tmin, tmax};
     out.rays.insert(out.rays.end(), r, r + 8);
 }
-
-struct Context {
-    const Scene& scene;
-    Aabb bounds, root;
-    Vec3 centre;
-    float radius;
-    double margin;  // kSealMargin x extent
-    std::optional<MeshTopology> topo;
-    std::vector<uint32_t> interiorEdges, fanVertices;
-    std::vector<std::vector<uint32_t>> links;  // per fan vertex
-};
 
 void around(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     for (uint64_t i = 0; i < n; ++i) {
@@ -242,7 +248,22 @@ double longestSide(const Triangle& t) {
                                 std::to_string(kAttemptsPerRay) + " tries each");
 }
 
+void prepareTopology(Context& c) {
+    if (c.topo) return;
+    c.topo = meshTopology(c.scene);
+    const MeshTopology& t = *c.topo;
+    for (size_t i = 0; i < t.edges.size(); ++i)
+        if (t.edges[i].triangles == 2) c.interiorEdges.push_back(uint32_t(i));
+    for (uint32_t v = 0; v < t.vertices.size(); ++v) {
+        std::vector<uint32_t> link = vertexLink(t, v);
+        if (link.empty()) continue;
+        c.fanVertices.push_back(v);
+        c.links.push_back(std::move(link));
+    }
+}
+
 void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    prepareTopology(c);
     if (n > 0 && c.interiorEdges.empty())
         throw std::invalid_argument("ray set 'edges': '" + c.scene.name +
                                     "' has no edge shared by exactly two triangles");
@@ -272,6 +293,7 @@ void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
 }
 
 void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    prepareTopology(c);
     if (n > 0 && c.fanVertices.empty())
         throw std::invalid_argument("ray set 'vertices': '" + c.scene.name +
                                     "' has no vertex whose triangles close a fan around it");
@@ -367,20 +389,6 @@ void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     }
 }
 
-void prepareTopology(Context& c) {
-    if (c.topo) return;
-    c.topo = meshTopology(c.scene);
-    const MeshTopology& t = *c.topo;
-    for (size_t i = 0; i < t.edges.size(); ++i)
-        if (t.edges[i].triangles == 2) c.interiorEdges.push_back(uint32_t(i));
-    for (uint32_t v = 0; v < t.vertices.size(); ++v) {
-        std::vector<uint32_t> link = vertexLink(t, v);
-        if (link.empty()) continue;
-        c.fanVertices.push_back(v);
-        c.links.push_back(std::move(link));
-    }
-}
-
 void cameraRays(const FrameParams& f, RaySet& out) {
     for (int y = 0; y < f.height; ++y)
         for (int x = 0; x < f.width; ++x) {
@@ -406,31 +414,47 @@ void shadowRays(const Scene& scene, const FrameParams& f, const TraceBatch& refe
     }
 }
 
+// The frame of the camera sets, made once for both.
+const FrameParams& frameOf(const Context& c, RaySet& out) {
+    if (!out.frame) out.frame = makeFrame(c.scene.bounds(), c.camera);
+    return *out.frame;
+}
+
+void camera(Context& c, Rng&, uint64_t, RaySet& out) { cameraRays(frameOf(c, out), out); }
+
+void shadow(Context& c, Rng&, uint64_t, RaySet& out) {
+    shadowRays(c.scene, frameOf(c, out), c.reference, out);
+}
+
 }  // namespace
 
-const char* raySetName(RaySetKind k) { return kNames[int(k) % kRaySetKindCount]; }
+const std::vector<RaySetDesc>& standardRaySets() {
+    // id, name, seeded, needs triangles, needs a reference, adversarial, generator
+    static const std::vector<RaySetDesc> table = {
+        {0, "camera", false, false, false, false, camera},
+        {1, "shadow", false, false, true, false, shadow},
+        {2, "around", true, false, false, false, around},
+        {3, "inside", true, false, false, false, inside},
+        {4, "axis", true, false, false, false, axis},
+        {5, "edges", true, true, false, true, edges},
+        {6, "vertices", true, true, false, true, vertices},
+        {7, "grazing", true, true, false, true, grazing},
+        {8, "tmin-tmax", true, true, false, true, tminTmax},
+    };
+    return table;
+}
 
-std::optional<RaySetKind> findRaySet(const std::string& name) {
-    for (int k = 0; k < kRaySetKindCount; ++k)
-        if (name == kNames[k]) return RaySetKind(k);
-    return std::nullopt;
+const RaySetDesc* findRaySet(const std::string& name) {
+    for (const RaySetDesc& k : standardRaySets())
+        if (name == k.name) return &k;
+    return nullptr;
 }
 
 std::string raySetNames() {
     std::string s;
-    for (const char* n : kNames) s += (s.empty() ? "" : ", ") + std::string(n);
+    for (const RaySetDesc& k : standardRaySets())
+        s += (s.empty() ? "" : ", ") + std::string(k.name);
     return s;
-}
-
-bool isSeededSet(RaySetKind k) { return k != RaySetKind::Camera && k != RaySetKind::Shadow; }
-
-bool needsTriangles(RaySetKind k) {
-    return k == RaySetKind::Edges || k == RaySetKind::Vertices || k == RaySetKind::Grazing ||
-           k == RaySetKind::TminTmax;
-}
-
-bool isAdversarialSet(const std::string& name) {
-    return name == "edges" || name == "vertices" || name == "grazing" || name == "tmin-tmax";
 }
 
 const RaySetRange* RaySet::find(const std::string& name) const {
@@ -439,12 +463,12 @@ const RaySetRange* RaySet::find(const std::string& name) const {
     return nullptr;
 }
 
-uint64_t seededShare(const RaySetSpec& spec, RaySetKind k) {
+uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k) {
     uint64_t seeded = 0, index = 0;
     bool found = false;
-    for (RaySetKind s : spec.sets) {
-        if (!isSeededSet(s)) continue;
-        if (s == k) {
+    for (const RaySetDesc* s : spec.sets) {
+        if (!s->seeded) continue;
+        if (s == &k) {
             index = seeded;
             found = true;
         }
@@ -456,72 +480,42 @@ uint64_t seededShare(const RaySetSpec& spec, RaySetKind k) {
 
 RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& reference) {
     for (size_t i = 0; i < spec.sets.size(); ++i) {
+        const RaySetDesc* k = spec.sets[i];
+        if (!k) throw std::invalid_argument("ray set list holds no set (a name findRaySet missed)");
         for (size_t j = 0; j < i; ++j)
-            if (spec.sets[i] == spec.sets[j])
-                throw std::invalid_argument("ray set '" + std::string(raySetName(spec.sets[i])) +
+            if (k == spec.sets[j])
+                throw std::invalid_argument("ray set '" + std::string(k->name) +
                                             "' is named twice");
-        if (needsTriangles(spec.sets[i]) && scene.kind != PrimKind::Triangles)
-            throw std::invalid_argument("ray set '" + std::string(raySetName(spec.sets[i])) +
+        if (k->needsTriangles && scene.kind != PrimKind::Triangles)
+            throw std::invalid_argument("ray set '" + std::string(k->name) +
                                         "' needs a triangle mesh; '" + scene.name +
                                         "' is a point cloud");
-        if (spec.sets[i] == RaySetKind::Shadow && !reference)
-            throw std::invalid_argument(
-                "ray set 'shadow' needs a reference tracer for the "
-                "camera hits");
+        if (k->needsReference && !reference)
+            throw std::invalid_argument("ray set '" + std::string(k->name) +
+                                        "' needs a reference tracer for the camera hits");
     }
-    Context c{scene, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {}, {}, {}, {}};
+    Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {},
+              {},    {},          {}};
     c.centre = c.bounds.center();
     c.radius = 0.5f * length(c.bounds.extent());
     if (!(c.radius > 0.0f)) c.radius = 0.5f * length(c.root.extent());
     c.margin = kSealMargin * sceneExtent(scene);
 
     RaySet out;
-    for (RaySetKind k : spec.sets) {
-        if (k == RaySetKind::Camera || k == RaySetKind::Shadow) {
-            if (!out.frame) out.frame = makeFrame(scene.bounds(), spec.camera);
-        }
+    for (const RaySetDesc* k : spec.sets) {
         const uint64_t begin = out.count();
-        const uint64_t n = seededShare(spec, k);
-        Rng rng = streamFor(spec.seed, k);
-        if (k == RaySetKind::Edges || k == RaySetKind::Vertices) prepareTopology(c);
+        const uint64_t n = seededShare(spec, *k);
+        Rng rng = streamFor(spec.seed, *k);
         out.rays.reserve(out.rays.size() + 8 * n);
-        switch (k) {
-            case RaySetKind::Camera:
-                cameraRays(*out.frame, out);
-                break;
-            case RaySetKind::Shadow:
-                shadowRays(scene, *out.frame, reference, out);
-                break;
-            case RaySetKind::Around:
-                around(c, rng, n, out);
-                break;
-            case RaySetKind::Inside:
-                inside(c, rng, n, out);
-                break;
-            case RaySetKind::Axis:
-                axis(c, rng, n, out);
-                break;
-            case RaySetKind::Edges:
-                edges(c, rng, n, out);
-                break;
-            case RaySetKind::Vertices:
-                vertices(c, rng, n, out);
-                break;
-            case RaySetKind::Grazing:
-                grazing(c, rng, n, out);
-                break;
-            case RaySetKind::TminTmax:
-                tminTmax(c, rng, n, out);
-                break;
-        }
-        out.sets.push_back({raySetName(k), begin, out.count() - begin});
+        k->generate(c, rng, n, out);
+        out.sets.push_back({k->name, begin, out.count() - begin});
     }
     return out;
 }
 
 RaySet makeValidationRays(const Scene& scene, uint64_t n, uint64_t seed) {
     RaySetSpec spec;
-    spec.sets = {RaySetKind::Around, RaySetKind::Inside, RaySetKind::Axis};
+    spec.sets = {findRaySet("around"), findRaySet("inside"), findRaySet("axis")};
     spec.count = n;
     spec.seed = seed;
     return makeRaySet(scene, spec);

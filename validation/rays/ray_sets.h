@@ -51,28 +51,28 @@
 
 namespace oct {
 
-// The id seeds the set's random stream: never renumber.
-enum class RaySetKind : uint8_t {
-    Camera = 0,
-    Shadow = 1,
-    Around = 2,
-    Inside = 3,
-    Axis = 4,
-    Edges = 5,
-    Vertices = 6,
-    Grazing = 7,
-    TminTmax = 8,
-};
-constexpr int kRaySetKindCount = 9;
+struct RaySet;
+struct RaySetContext;  // what the generators share: the scene, its boxes, topology (ray_sets.cpp)
+struct RaySetRng;      // one set's random stream (ray_sets.cpp)
 
-const char* raySetName(RaySetKind k);  // "camera", ..., "tmin-tmax"
-std::optional<RaySetKind> findRaySet(const std::string& name);
-std::string raySetNames();          // "camera, shadow, ..., tmin-tmax"
-bool isSeededSet(RaySetKind k);     // drawn from the seed (not camera, shadow)
-bool needsTriangles(RaySetKind k);  // edges, vertices, grazing, tmin-tmax
-// Sets built from edge cases on purpose (edges, vertices, grazing, tmin-tmax): nearly every ray
-// is touchy, so ambiguous answers are expected there and do not count against the rate.
-bool isAdversarialSet(const std::string& name);
+// One standard set: a row of the table standardRaySets() returns. Adding a set is its generator
+// in ray_sets.cpp and one row there, with a new id.
+struct RaySetDesc {
+    uint8_t id;           // seeds the set's random stream: never renumber
+    const char* name;     // "camera", ..., "tmin-tmax"
+    bool seeded;          // drawn from the seed; false: made from the camera (camera, shadow)
+    bool needsTriangles;  // edges, vertices, grazing, tmin-tmax
+    bool needsReference;  // starts at a reference tracer's camera hits (shadow): not rebuilt
+    // Built from edge cases on purpose (edges, vertices, grazing, tmin-tmax): nearly every ray is
+    // touchy, so ambiguous answers are expected there and do not count against the rate.
+    bool adversarial;
+    // Appends the set's rows (`n`: the seeded sets' share; the camera sets make their own count).
+    void (*generate)(RaySetContext& c, RaySetRng& rng, uint64_t n, RaySet& out);
+};
+
+const std::vector<RaySetDesc>& standardRaySets();       // in `--set all` order
+const RaySetDesc* findRaySet(const std::string& name);  // null for another name
+std::string raySetNames();                              // "camera, shadow, ..., tmin-tmax"
 
 // Rows [begin, begin + count) of a ray file belong to the set `name`.
 struct RaySetRange {
@@ -103,21 +103,21 @@ struct RaySet {
 };
 
 struct RaySetSpec {
-    std::vector<RaySetKind> sets;  // in file order, each at most once
-    uint64_t count = 30000;        // rays over the seeded sets together
+    std::vector<const RaySetDesc*> sets;  // rows of standardRaySets(), in file order, each once
+    uint64_t count = 30000;               // rays over the seeded sets together
     uint64_t seed = 1;
     CameraOptions camera;  // camera and shadow sets
 };
 
 // The rows of one seeded set's share, as the spec splits count.
-uint64_t seededShare(const RaySetSpec& spec, RaySetKind k);
+uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k);
 
 // Closest hits of a batch by a reference tracer: the shadow set needs the camera hits (the CLI
 // passes Embree from the backend list). May be empty when there is no shadow set.
 using TraceBatch = std::function<void(RayBatchView)>;
 
-// Throws std::invalid_argument for a repeated set, a triangle-only set on a point cloud, a
-// shadow set without a reference, or a mesh offering no target (no shared edge, no closed fan).
+// Throws std::invalid_argument for a null or repeated set, a triangle-only set on a point cloud,
+// a shadow set without a reference, or a mesh offering no target (no shared edge, no closed fan).
 RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& reference = {});
 
 // validate's seeded sets: around, inside, axis, N split evenly.
