@@ -14,7 +14,7 @@
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
-#include "validation/regression/cost_baseline.h"
+#include "validation/regression/regression_files.h"
 #include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 #include "validation/validate.h"
@@ -96,7 +96,7 @@ void runValidate(const ValidateCliOptions& o) {
     std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
     std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
-    const RegressionChecks reg = runRegressionChecks(o.golden, o.costBaseline, o.update, ".");
+    const RegressionReport reg = runRegressionFiles(o.golden, o.costBaseline, o.update, ".");
     std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
     if (o.scene.path.empty()) {
         if (!reg.ran())

@@ -120,10 +120,6 @@ void judgeScene(const SceneBaselines& s,
     }
 }
 
-double since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 }  // namespace
 
 const char* costVerdictName(CostVerdict v) {
@@ -193,31 +189,26 @@ uint64_t CostReport::failures() const {
     return n;
 }
 
-CostReport checkCostBaselines(const std::string& file, const std::string& root, double tolerance) {
-    const auto start = std::chrono::steady_clock::now();
-    const BaselineFile b = readBaselines(file);
-    CostReport rep;
-    rep.file = file;
-    rep.baselineVersion = b.octrace;
-    rep.render = b.render;
-    rep.tolerance = tolerance;
-    for (const SceneBaselines& s : b.scenes)
-        judgeScene(s, measure(s.scene, root, b.render, file), tolerance, rep.rows);
-    rep.seconds = since(start);
-    return rep;
-}
+namespace {
 
-CostReport updateCostBaselines(const std::string& file, const std::string& root) {
+// The one skeleton of checking and updating: read the baselines, measure each scene with every
+// layout, judge against the file, or rewrite it with the new totals (rows then compare them
+// with the old ones).
+CostReport runCostBaselines(const std::string& file, const std::string& root, RegressionMode mode,
+                            double tolerance) {
     const auto start = std::chrono::steady_clock::now();
+    const bool update = mode == RegressionMode::Update;
     BaselineFile b = readBaselines(file);
     CostReport rep;
     rep.file = file;
-    rep.baselineVersion = octraceVersion();
+    rep.baselineVersion = update ? octraceVersion() : b.octrace;
     rep.render = b.render;
-    rep.updated = true;
+    rep.tolerance = tolerance;
+    rep.updated = update;
     for (SceneBaselines& s : b.scenes) {
         const auto measured = measure(s.scene, root, b.render, file);
-        judgeScene(s, measured, rep.tolerance, rep.rows);
+        judgeScene(s, measured, tolerance, rep.rows);
+        if (!update) continue;
         s.layouts.clear();
         s.order.clear();
         for (const auto& [name, t] : measured) {
@@ -225,11 +216,23 @@ CostReport updateCostBaselines(const std::string& file, const std::string& root)
             s.order.push_back(name);
         }
     }
-    b.octrace = octraceVersion();
-    const std::string text = baselinesJson(b).dump(2) + "\n";
-    writeFileAtomic(file, text.data(), text.size());
-    rep.seconds = since(start);
+    if (update) {
+        b.octrace = octraceVersion();
+        const std::string text = baselinesJson(b).dump(2) + "\n";
+        writeFileAtomic(file, text.data(), text.size());
+    }
+    rep.seconds = secondsSince(start);
     return rep;
+}
+
+}  // namespace
+
+CostReport checkCostBaselines(const std::string& file, const std::string& root, double tolerance) {
+    return runCostBaselines(file, root, RegressionMode::Check, tolerance);
+}
+
+CostReport updateCostBaselines(const std::string& file, const std::string& root) {
+    return runCostBaselines(file, root, RegressionMode::Update, kCostTolerance);
 }
 
 namespace {
@@ -294,38 +297,6 @@ std::string humanSummary(const CostReport& r) {
         s += line + "\n";
     }
     return s;
-}
-
-std::string RegressionChecks::failureText() const {
-    std::string s;
-    if (golden && !golden->passes())
-        s += fmt(", %llu golden image comparisons off", (unsigned long long)golden->failures());
-    if (cost && !cost->passes())
-        s += fmt(", %llu cost baselines exceeded or missing", (unsigned long long)cost->failures());
-    return s;
-}
-
-RegressionChecks runRegressionChecks(const std::string& goldenDir, const std::string& costFile,
-                                     bool update, const std::string& root) {
-    if (update && goldenDir.empty() && costFile.empty())
-        throw std::runtime_error("--update needs --golden DIR or --cost-baseline FILE to rewrite");
-    RegressionChecks r;
-    if (!goldenDir.empty())
-        r.golden = update ? updateGolden(goldenDir, root) : checkGolden(goldenDir, root);
-    if (!costFile.empty())
-        r.cost = update ? updateCostBaselines(costFile, root) : checkCostBaselines(costFile, root);
-    return r;
-}
-
-void addToJson(json& report, const RegressionChecks& r) {
-    report["golden"] = r.golden ? toJson(*r.golden) : json(nullptr);
-    report["cost_baseline"] = r.cost ? toJson(*r.cost) : json(nullptr);
-    report["pass"] = report.value("pass", true) && r.passes();
-}
-
-std::string humanSummary(const RegressionChecks& r) {
-    return (r.golden ? humanSummary(*r.golden) : std::string()) +
-           (r.cost ? humanSummary(*r.cost) : std::string());
 }
 
 }  // namespace oct

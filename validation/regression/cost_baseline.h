@@ -24,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/regression/golden.h"
+#include "validation/regression/regression_render.h"
 
 namespace oct {
 
@@ -83,22 +83,5 @@ CostReport updateCostBaselines(const std::string& file, const std::string& root)
 
 nlohmann::json toJson(const CostReport& r);
 std::string humanSummary(const CostReport& r);
-
-// What `octrace validate --golden DIR --cost-baseline FILE [--update]` runs: either check, both
-// or none (empty names), from the repository root `root`.
-struct RegressionChecks {
-    std::optional<GoldenReport> golden;
-    std::optional<CostReport> cost;
-
-    bool ran() const { return golden || cost; }
-    bool passes() const { return (!golden || golden->passes()) && (!cost || cost->passes()); }
-    // ", 2 golden images off, 1 cost increase" (empty when it passes).
-    std::string failureText() const;
-};
-RegressionChecks runRegressionChecks(const std::string& goldenDir, const std::string& costFile,
-                                     bool update, const std::string& root);
-// Adds `golden` and `cost_baseline` (null when not run) to a report object and ands `pass`.
-void addToJson(nlohmann::json& report, const RegressionChecks& r);
-std::string humanSummary(const RegressionChecks& r);
 
 }  // namespace oct

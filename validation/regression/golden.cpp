@@ -5,14 +5,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <memory>
 
 #include "core/io/output_file.h"
-#include "core/octree/built_scene.h"
-#include "core/scene/load_scene.h"
-#include "cpu_ref/embree_backend.h"
-#include "cpu_ref/render_cpu.h"
 #include "validation/rays/ray_manifest.h"
 #include "validation/report/report_util.h"
 
@@ -25,8 +19,6 @@ using report_detail::fmt;
 
 constexpr const char* kManifestName = "golden.json";
 constexpr const char* kFormat = "octrace-golden";
-
-bool isGenerated(const std::string& scene) { return scene.rfind("grid:", 0) == 0; }
 
 struct GoldenImage {
     std::string scene, file;
@@ -63,88 +55,7 @@ json manifestJson(const GoldenManifest& m) {
             {"images", images}};
 }
 
-double since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 }  // namespace
-
-json readRegressionJson(const std::string& path, const char* what) {
-    std::ifstream in(path);
-    if (!in)
-        throw IoError(path + ": cannot read the " + what +
-                      " (missing? docs/VALIDATION.md describes it; restore it from git)");
-    try {
-        return json::parse(in);
-    } catch (const json::exception& e) {
-        throw IoError(path + ": not valid JSON (" + e.what() + "); restore it from git");
-    }
-}
-
-void regression_detail::badField(const std::string& file, const char* name, bool missing) {
-    throw IoError(file + ": " + (missing ? "missing field '" : "field '") + name +
-                  (missing ? "'" : "' has the wrong type") + "; restore the file from git");
-}
-
-RegressionRender regressionRenderFromJson(const json& j, const std::string& file) {
-    RegressionRender r;
-    r.width = field<int>(j, "width", file);
-    r.height = field<int>(j, "height", file);
-    if (field<std::string>(j, "camera", file) != "default")
-        throw IoError(file + ": render.camera must be \"default\" (the framing of makeFrame)");
-    r.build.maxDepth = field<int>(j, "max_depth", file);
-    r.build.maxPrims = field<uint32_t>(j, "max_prims", file);
-    r.radius = field<float>(j, "radius", file);
-    return r;
-}
-
-json toJson(const RegressionRender& r) {
-    return {{"width", r.width},
-            {"height", r.height},
-            {"camera", "default"},
-            {"max_depth", r.build.maxDepth},
-            {"max_prims", r.build.maxPrims},
-            {"radius", r.radius}};
-}
-
-std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
-                                                const std::string& root,
-                                                const RegressionRender& render, bool embree,
-                                                const std::string& file) {
-    std::string path = sceneName;
-    if (!isGenerated(sceneName)) {
-        path = (std::filesystem::path(root) / sceneName).string();
-        std::error_code ec;
-        if (!std::filesystem::exists(path, ec))
-            throw IoError(file + " names scene '" + sceneName + "', which is not under '" + root +
-                          "': run octrace validate from the repository root");
-    }
-    LoadOptions lo;
-    lo.radius = render.radius;
-    const Scene scene = loadScene(path, lo);
-    CameraOptions cam;
-    cam.width = render.width;
-    cam.height = render.height;
-    const FrameParams frame = makeFrame(scene.bounds(), cam);
-    LayoutOptions opts;
-    opts.build = render.build;
-    std::shared_ptr<const Octree> tree = buildSharedOctree(scene, render.build);
-    std::vector<TracedFrame> out;
-    for (const LayoutDesc& l : layouts()) {
-        TracedFrame f;
-        f.tracer = l.name;
-        renderCpu(frame, convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts), f.film);
-        out.push_back(std::move(f));
-    }
-    if (embree) {
-        TracedFrame f;
-        f.tracer = "embree";
-        f.usesLayouts = false;
-        EmbreeSceneTracer(bareScene(scene)).render(frame, f.film);
-        out.push_back(std::move(f));
-    }
-    return out;
-}
 
 ImageDiff compareImages(int width, int height, const std::vector<uint8_t>& golden,
                         const std::vector<uint8_t>& rgb, int channel) {
@@ -192,20 +103,61 @@ std::vector<uint8_t> readPngRgb(const std::string& path, int& width, int& height
     return rgb;
 }
 
-GoldenReport checkGolden(const std::string& dir, const std::string& root, bool embree,
-                         const GoldenTolerance& tolerance) {
+namespace {
+
+// Update mode's row for one image: the frames of every layout must agree bit for bit; the new
+// image is compared with the old one (none: every pixel new) and staged.
+GoldenRow rewriteImage(const GoldenImage& g, const std::string& path,
+                       const std::vector<TracedFrame>& frames, int channel, OutputSet& out) {
+    const Film& film = frames.front().film;
+    for (const TracedFrame& f : frames)
+        if (f.film.rgb != film.rgb)
+            throw std::runtime_error(fmt(
+                "golden %s: layouts %s and %s render different images (%llu pixels); "
+                "nothing was written: find out why before pinning an image",
+                g.scene.c_str(), frames.front().tracer.c_str(), f.tracer.c_str(),
+                (unsigned long long)compareImages(film.width, film.height, film.rgb, f.film.rgb, 0)
+                    .differing));
+    GoldenRow row{g.scene, g.file, "all layouts", {}, true};
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec)) {
+        int w = 0, h = 0;
+        const std::vector<uint8_t> old = readPngRgb(path, w, h);
+        row.diff = compareImages(w, h, old, film.rgb, channel);
+        if (w != film.width || h != film.height) row.diff.sizeMismatch = true;
+    } else {
+        row.diff.sizeMismatch = true;  // no old image: everything is new
+        row.diff.pixels = film.pixelCount();
+    }
+    out.stage(path, encodePng(path, film.width, film.height, film.rgb));
+    return row;
+}
+
+// The one skeleton of checking and updating: read the manifest, render each image's scene,
+// compare every tracer with the image, or rewrite the images and the manifest (all or none).
+GoldenReport runGolden(const std::string& dir, const std::string& root, RegressionMode mode,
+                       bool embree, const GoldenTolerance& tolerance) {
     const auto start = std::chrono::steady_clock::now();
-    const GoldenManifest m = readGoldenManifest(dir);
+    const bool update = mode == RegressionMode::Update;
+    GoldenManifest m = readGoldenManifest(dir);
     GoldenReport rep;
     rep.dir = dir;
-    rep.goldenVersion = m.octrace;
+    rep.goldenVersion = update ? octraceVersion() : m.octrace;
     rep.render = m.render;
     rep.tolerance = tolerance;
+    rep.updated = update;
     const std::string manifestPath = (std::filesystem::path(dir) / kManifestName).string();
+    OutputSet out;
     for (const GoldenImage& g : m.images) {
+        const std::string path = (std::filesystem::path(dir) / g.file).string();
+        if (update) {
+            rep.rows.push_back(rewriteImage(
+                g, path, renderRegressionFrames(g.scene, root, m.render, false, manifestPath),
+                tolerance.channel, out));
+            continue;
+        }
         int w = 0, h = 0;
-        const std::vector<uint8_t> golden =
-            readPngRgb((std::filesystem::path(dir) / g.file).string(), w, h);
+        const std::vector<uint8_t> golden = readPngRgb(path, w, h);
         for (const TracedFrame& f :
              renderRegressionFrames(g.scene, root, m.render, embree, manifestPath)) {
             GoldenRow row{g.scene, g.file, f.tracer, {}, false};
@@ -214,54 +166,25 @@ GoldenReport checkGolden(const std::string& dir, const std::string& root, bool e
             rep.rows.push_back(std::move(row));
         }
     }
-    rep.seconds = since(start);
+    if (update) {
+        m.octrace = octraceVersion();
+        const std::string text = manifestJson(m).dump(2) + "\n";
+        out.stage(manifestPath, text.data(), text.size());
+        out.commit();
+    }
+    rep.seconds = secondsSince(start);
     return rep;
 }
 
+}  // namespace
+
+GoldenReport checkGolden(const std::string& dir, const std::string& root, bool embree,
+                         const GoldenTolerance& tolerance) {
+    return runGolden(dir, root, RegressionMode::Check, embree, tolerance);
+}
+
 GoldenReport updateGolden(const std::string& dir, const std::string& root) {
-    const auto start = std::chrono::steady_clock::now();
-    GoldenManifest m = readGoldenManifest(dir);
-    GoldenReport rep;
-    rep.dir = dir;
-    rep.goldenVersion = octraceVersion();
-    rep.render = m.render;
-    rep.updated = true;
-    const std::string manifestPath = (std::filesystem::path(dir) / kManifestName).string();
-    OutputSet out;
-    for (const GoldenImage& g : m.images) {
-        const std::vector<TracedFrame> frames =
-            renderRegressionFrames(g.scene, root, m.render, false, manifestPath);
-        const Film& film = frames.front().film;
-        for (const TracedFrame& f : frames)
-            if (f.film.rgb != film.rgb)
-                throw std::runtime_error(
-                    fmt("golden %s: layouts %s and %s render different images (%llu pixels); "
-                        "nothing was written: find out why before pinning an image",
-                        g.scene.c_str(), frames.front().tracer.c_str(), f.tracer.c_str(),
-                        (unsigned long long)compareImages(film.width, film.height, film.rgb,
-                                                          f.film.rgb, 0)
-                            .differing));
-        const std::string path = (std::filesystem::path(dir) / g.file).string();
-        GoldenRow row{g.scene, g.file, "all layouts", {}, true};
-        std::error_code ec;
-        if (std::filesystem::exists(path, ec)) {
-            int w = 0, h = 0;
-            const std::vector<uint8_t> old = readPngRgb(path, w, h);
-            row.diff = compareImages(w, h, old, film.rgb, rep.tolerance.channel);
-            if (w != film.width || h != film.height) row.diff.sizeMismatch = true;
-        } else {
-            row.diff.sizeMismatch = true;  // no old image: everything is new
-            row.diff.pixels = film.pixelCount();
-        }
-        rep.rows.push_back(row);
-        out.stage(path, encodePng(path, film.width, film.height, film.rgb));
-    }
-    m.octrace = octraceVersion();
-    const std::string text = manifestJson(m).dump(2) + "\n";
-    out.stage(manifestPath, text.data(), text.size());
-    out.commit();
-    rep.seconds = since(start);
-    return rep;
+    return runGolden(dir, root, RegressionMode::Update, false, GoldenTolerance{});
 }
 
 json toJson(const GoldenReport& r) {

@@ -21,33 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "core/octree/octree.h"
 #include "core/render/film.h"
+#include "validation/regression/regression_render.h"
 
 namespace oct {
-
-// The fixed frame of the regression files (golden images and cost baselines).
-struct RegressionRender {
-    int width = 128, height = 128;  // default camera (makeFrame) at this size
-    BuildParams build;              // max depth, max prims
-    float radius = 0.0f;            // point clouds; 0: the default rule
-};
-
-RegressionRender regressionRenderFromJson(const nlohmann::json& j, const std::string& file);
-nlohmann::json toJson(const RegressionRender& r);
-
-// One frame of a scene per tracer: every layout of the registry through the OpenMP kernel, in
-// registry order (tracer = the layout's name), then, with `embree`, Embree's hits shaded by
-// the same kernel (tracer "embree"). `scene` is resolved against `root` unless it is a
-// generator spec; a missing file is an error naming the listing `file` and the root.
-struct TracedFrame {
-    std::string tracer;
-    bool usesLayouts = true;  // false: Embree (no traversal cost of ours)
-    Film film;
-};
-std::vector<TracedFrame> renderRegressionFrames(const std::string& scene, const std::string& root,
-                                                const RegressionRender& render, bool embree,
-                                                const std::string& file);
 
 // Per-pixel difference of two RGB8 images of the same size: d(pixel) = the largest absolute
 // difference of its three channels, in 1/255 steps; `over` counts d > `channel`.
@@ -106,22 +83,6 @@ GoldenReport updateGolden(const std::string& dir, const std::string& root);
 
 nlohmann::json toJson(const GoldenReport& r);
 std::string humanSummary(const GoldenReport& r);
-
-// Reading the regression files (golden.json, cost_baselines.json): one-line IoErrors naming
-// the file and the field.
-nlohmann::json readRegressionJson(const std::string& path, const char* what);
-namespace regression_detail {
-[[noreturn]] void badField(const std::string& file, const char* name, bool missing);
-template <class T>
-T field(const nlohmann::json& j, const char* name, const std::string& file) {
-    if (!j.is_object() || !j.contains(name)) badField(file, name, true);
-    try {
-        return j.at(name).get<T>();
-    } catch (const nlohmann::json::exception&) {
-        badField(file, name, false);
-    }
-}
-}  // namespace regression_detail
 
 // Decodes a PNG to RGB8 (stb_image); throws IoError naming `path` and what to do.
 std::vector<uint8_t> readPngRgb(const std::string& path, int& width, int& height);
