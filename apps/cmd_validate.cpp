@@ -165,19 +165,8 @@ void runValidate(const ValidateCliOptions& o) {
         }
     std::fflush(stdout);
     if (!rep.passes() || !reg.passes())
-        throw std::runtime_error(
-            "validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
-            std::to_string(rep.ambiguous()) + " ambiguous" +
-            (rep.replication && !rep.replication->passes()
-                 ? ", " + std::to_string(rep.replication->falseNegatives) +
-                       " replication false negatives, " +
-                       std::to_string(rep.replication->rangeErrors) + " broken node ranges"
-                 : std::string()) +
-            (rep.boxContract && !rep.boxContract->passes()
-                 ? ", box-test contract broken (" + std::to_string(rep.boxContract->culled) +
-                       " culled, " + std::to_string(rep.boxContract->loose) + " loose)"
-                 : std::string()) +
-            reg.failureText() + " (see the report above)");
+        throw std::runtime_error("validation FAILED: " + failureText(rep) + reg.failureText() +
+                                 " (see the report above)");
 }
 
 }  // namespace

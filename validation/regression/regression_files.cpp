@@ -9,12 +9,31 @@ namespace oct {
 using nlohmann::json;
 using report_detail::fmt;
 
+namespace {
+
+// A regression file's outcome: `key` is its JSON field, null when it was not run.
+template <class Report>
+CheckResult resultOf(const std::optional<Report>& r, const char* key, const char* failure) {
+    CheckResult c;
+    c.ran = r.has_value();
+    c.json = {{key, r ? toJson(*r) : json(nullptr)}};
+    if (!r) return c;
+    c.pass = r->passes();
+    c.summary = humanSummary(*r);
+    if (!c.pass) c.failureText = fmt(failure, (unsigned long long)r->failures());
+    return c;
+}
+
+}  // namespace
+
+std::vector<CheckResult> RegressionReport::results() const {
+    return {resultOf(golden, "golden", ", %llu golden image comparisons off"),
+            resultOf(cost, "cost_baseline", ", %llu cost baselines exceeded or missing")};
+}
+
 std::string RegressionReport::failureText() const {
     std::string s;
-    if (golden && !golden->passes())
-        s += fmt(", %llu golden image comparisons off", (unsigned long long)golden->failures());
-    if (cost && !cost->passes())
-        s += fmt(", %llu cost baselines exceeded or missing", (unsigned long long)cost->failures());
+    for (const CheckResult& c : results()) s += c.failureText;
     return s;
 }
 
@@ -31,14 +50,14 @@ RegressionReport runRegressionFiles(const std::string& goldenDir, const std::str
 }
 
 void addToJson(json& report, const RegressionReport& r) {
-    report["golden"] = r.golden ? toJson(*r.golden) : json(nullptr);
-    report["cost_baseline"] = r.cost ? toJson(*r.cost) : json(nullptr);
+    for (const CheckResult& c : r.results()) report.update(c.json);
     report["pass"] = report.value("pass", true) && r.passes();
 }
 
 std::string humanSummary(const RegressionReport& r) {
-    return (r.golden ? humanSummary(*r.golden) : std::string()) +
-           (r.cost ? humanSummary(*r.cost) : std::string());
+    std::string s;
+    for (const CheckResult& c : r.results()) s += c.summary;
+    return s;
 }
 
 }  // namespace oct

@@ -6,9 +6,11 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "validation/regression/cost_baseline.h"
 #include "validation/regression/golden.h"
+#include "validation/report/check_result.h"
 
 namespace oct {
 
@@ -18,6 +20,8 @@ struct RegressionReport {
 
     bool ran() const { return golden || cost; }
     bool passes() const { return (!golden || golden->passes()) && (!cost || cost->passes()); }
+    // Golden's and the cost baselines' outcomes (report/check_result.h), in that order.
+    std::vector<CheckResult> results() const;
     // ", 2 golden image comparisons off, 1 cost baselines exceeded or missing" ("" on a pass).
     std::string failureText() const;
 };

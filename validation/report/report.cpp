@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "validation/checks/check.h"
 #include "validation/report/report_util.h"
 
 namespace oct {
@@ -94,43 +95,20 @@ std::string raySetText(const ValidationReport& r) {
 }  // namespace
 
 json toJson(const ValidationReport& r) {
+    const double rate = r.policy.maxAmbiguousRate;
     json runs = json::array();
     for (const RunReport& run : r.runs) {
-        json shadow = toJson(run.film.shadow);
-        shadow["resolved_by_rerun"] = run.film.shadowResolvedByRerun;
-        shadow["not_compared"] = run.film.shadowNotCompared;
-        json rays = toJson(run.rays, r.policy.maxAmbiguousRate);
-        json wp = json::array(), ws = json::array(), wr = json::array();
-        for (const Finding& f : run.film.worstPixels) wp.push_back(findingJson(f, true));
-        for (const ShadowFinding& f : run.film.worstShadows) ws.push_back(shadowJson(f));
-        for (const Finding& f : run.rays.worst) wr.push_back(findingJson(f, false));
-        json inside = nullptr, structure = nullptr;
-        if (run.lightInside)
-            inside = {{"primary", toJson(run.lightInside->primary)},
-                      {"shadow", toJson(run.lightInside->shadow)}};
-        if (run.structure)
-            structure = {
-                {"pass", run.structure->passes()},      {"nodes", run.structure->nodes},
-                {"missing", run.structure->missing},    {"wrong_type", run.structure->wrongType},
-                {"wrong_box", run.structure->wrongBox}, {"wrong_list", run.structure->wrongList},
-                {"broken", run.structure->broken},      {"errors", run.structure->errors}};
-        runs.push_back({{"layout", run.layout},
-                        {"backend", run.backend},
-                        {"pass", run.passes(r.policy.maxAmbiguousRate)},
-                        {"wrong", run.wrong()},
-                        {"ambiguous", run.ambiguous()},
-                        {"primary", toJson(run.film.primary)},
-                        {"shadow", shadow},
-                        {"inside_view", inside},
-                        {"structure", structure},
-                        {"rays", rays},
-                        {"worst_pixels", wp},
-                        {"worst_shadow_rays", ws},
-                        {"worst_rays", wr},
-                        {"seconds",
-                         {{"render", run.renderSeconds},
-                          {"trace", run.traceSeconds},
-                          {"check", run.checkSeconds}}}});
+        json one = {{"layout", run.layout},
+                    {"backend", run.backend},
+                    {"pass", run.passes(rate)},
+                    {"wrong", run.wrong()},
+                    {"ambiguous", run.ambiguous()},
+                    {"seconds",
+                     {{"render", run.renderSeconds},
+                      {"trace", run.traceSeconds},
+                      {"check", run.checkSeconds}}}};
+        for (const RunCheck* c : runChecks()) one.update(c->result(run, rate).json);
+        runs.push_back(one);
     }
     json j = {{"scene",
                {{"name", r.scene},
@@ -152,16 +130,7 @@ json toJson(const ValidationReport& r) {
               {"ambiguous", r.ambiguous()},
               {"pass", r.passes()},
               {"seconds", r.seconds}};
-    j["replication"] = r.replication ? toJson(*r.replication) : json(nullptr);
-    j["box_contract"] = nullptr;
-    if (r.boxContract) {
-        const BoxContractReport& b = *r.boxContract;
-        j["box_contract"] = {{"pass", b.passes()},     {"rays", b.rays},
-                             {"tests", b.tests},       {"exact_meets", b.meets},
-                             {"touching", b.touching}, {"culled", b.culled},
-                             {"loose", b.loose},       {"slack", kBoxContractSlack},
-                             {"errors", b.errors}};
-    }
+    for (const SceneCheck* c : sceneChecks()) j.update(c->result(r).json);
     return j;
 }
 
@@ -223,6 +192,7 @@ std::string humanSummary(const ReplicationReport& r) {
 }
 
 std::string humanSummary(const ValidationReport& r) {
+    const double rate = r.policy.maxAmbiguousRate;
     std::string s;
     s += fmt("validate %s: %u %s, extent %.6g; %dx%d pixels, %llu rays (seed %llu: %s)\n",
              r.scene.c_str(), r.primitives, r.kind == PrimKind::Triangles ? "triangles" : "spheres",
@@ -236,85 +206,29 @@ std::string humanSummary(const ValidationReport& r) {
     s += fmt("reference embree (robust) %.2f s\n", r.referenceSeconds);
     for (const RunReport& run : r.runs) {
         s += fmt("\n%s on %s: %s  (render %.2f s, rays %.2f s, check %.2f s)\n", run.layout.c_str(),
-                 run.backend.c_str(), run.passes(r.policy.maxAmbiguousRate) ? "PASS" : "FAIL",
-                 run.renderSeconds, run.traceSeconds, run.checkSeconds);
-        s += "  check     compared     agree    ties ambiguous   wrong  amb. rate  max|dt|/ext\n";
-        s += countsLine("primary", run.film.primary);
-        s += countsLine("shadow", run.film.shadow);
-        if (run.lightInside) {
-            s += countsLine("in-prim", run.lightInside->primary);
-            s += countsLine("in-shad", run.lightInside->shadow);
-        }
-        std::string reasons = reasonsText(run.film.primary);
-        if (!reasons.empty()) s += "  primary ambiguous by reason:" + reasons + "\n";
-        reasons = reasonsText(run.film.shadow);
-        if (!reasons.empty()) s += "  shadow ambiguous by reason:" + reasons + "\n";
-        if (run.film.shadowResolvedByRerun || run.film.shadowNotCompared)
-            s +=
-                fmt("  shadow: %llu differing states reproduced by Embree on our shadow ray "
-                    "(agree); %llu pixels not compared (primary mismatch)\n",
-                    (unsigned long long)run.film.shadowResolvedByRerun,
-                    (unsigned long long)run.film.shadowNotCompared);
-        // Pixels: the mismatches and ties, or else the largest |dt| that still agreed.
-        int shown = 0;
-        for (const Finding& f : run.film.worstPixels) {
-            bool notable = f.cls != HitClass::Agree;
-            if (shown == 8 || (!notable && shown > 0)) break;
-            if (shown++ == 0)
-                s += notable ? "  worst pixels (x,y: class [reasons] ours | embree | truth)\n"
-                             : "  largest |dt| (x,y: class ours | embree)\n";
-            s += fmt("    %4d,%-4d %-9s %-16s %s | %s", f.x, f.y, hitClassName(f.cls),
-                     ("[" + reasonNames(f.reasons) + "]").c_str(), hitText(f.ours).c_str(),
-                     hitText(f.reference).c_str());
-            s += f.rechecked ? " | " + hitText(f.truth) + "\n" : std::string("\n");
-        }
-        shown = 0;
-        for (const ShadowFinding& f : run.film.worstShadows) {
-            if (f.cls == HitClass::Agree) continue;
-            if (shown++ == 8) break;
-            if (shown == 1)
-                s += "  shadow rays (x,y: class [reasons] ours | embree | embree on our ray | "
-                     "truth)\n";
-            s += fmt("    %4d,%-4d %-9s %-16s %s | %s | %s | %s\n", f.x, f.y, hitClassName(f.cls),
-                     ("[" + reasonNames(f.reasons) + "]").c_str(), shadowState(f.ours),
-                     shadowState(f.reference),
-                     f.referenceOnOurRay < 0 ? "-" : (f.referenceOnOurRay ? "occluded" : "lit"),
-                     f.truthOccluded < 0 ? "-" : (f.truthOccluded ? "occluded" : "lit"));
-        }
-        if (run.structure) {
-            const StructureReport& st = *run.structure;
-            s +=
-                fmt("  structure %s: %llu canonical nodes looked up through the layout; %llu "
-                    "missing, %llu of another kind, %llu with another box, %llu with another "
-                    "list, %llu lookups out of its arrays\n",
-                    st.passes() ? "PASS" : "FAIL", (unsigned long long)st.nodes,
-                    (unsigned long long)st.missing, (unsigned long long)st.wrongType,
-                    (unsigned long long)st.wrongBox, (unsigned long long)st.wrongList,
-                    (unsigned long long)st.broken);
-            for (const std::string& e : st.errors) s += "    " + e + "\n";
-        }
-        s += "  rays (the per-ray check of octrace certify)\n";
-        s += humanRaySets(run.rays, r.policy.maxAmbiguousRate);
+                 run.backend.c_str(), run.passes(rate) ? "PASS" : "FAIL", run.renderSeconds,
+                 run.traceSeconds, run.checkSeconds);
+        for (const RunCheck* c : runChecks()) s += c->result(run, rate).summary;
     }
-    if (r.replication) s += "\n" + humanSummary(*r.replication);
-    if (r.boxContract) {
-        const BoxContractReport& b = *r.boxContract;
-        s += fmt(
-            "\nbox test   %s: %llu rays on the octree's boxes, %llu float tests (intersectBox, "
-            "childIntervals) against exact rationals: %llu meet, %llu of them touching; %llu "
-            "culled a meeting ray, %llu accepted a ray missing the box grown by %g (of its edge or "
-            "distance)\n",
-            b.passes() ? "PASS" : "FAIL", (unsigned long long)b.rays, (unsigned long long)b.tests,
-            (unsigned long long)b.meets, (unsigned long long)b.touching,
-            (unsigned long long)b.culled, (unsigned long long)b.loose, kBoxContractSlack);
-        for (const std::string& e : b.errors) s += "  " + e + "\n";
+    std::string verdicts;
+    for (const SceneCheck* c : sceneChecks()) {
+        const CheckResult x = c->result(r);
+        s += x.summary;
+        verdicts += x.verdict;
     }
     s += fmt("\n%s: %llu wrong, %llu ambiguous over %zu run(s)%s (%.2f s)\n",
              r.passes() ? "PASS" : "FAIL", (unsigned long long)r.wrong(),
-             (unsigned long long)r.ambiguous(), r.runs.size(),
-             r.replication ? (r.replication->passes() ? ", replication ok" : ", replication FAILED")
-                           : "",
-             r.seconds);
+             (unsigned long long)r.ambiguous(), r.runs.size(), verdicts.c_str(), r.seconds);
+    return s;
+}
+
+std::string failureText(const ValidationReport& r) {
+    std::string s =
+        std::to_string(r.wrong()) + " wrong, " + std::to_string(r.ambiguous()) + " ambiguous";
+    const double rate = r.policy.maxAmbiguousRate;
+    for (const RunReport& run : r.runs)
+        for (const RunCheck* c : runChecks()) s += c->result(run, rate).failureText;
+    for (const SceneCheck* c : sceneChecks()) s += c->result(r).failureText;
     return s;
 }
 

@@ -18,6 +18,9 @@ nlohmann::json toJson(const ValidationReport& r);
 
 std::string humanSummary(const ReplicationReport& r);
 std::string humanSummary(const ValidationReport& r);
+// What failed, for the one-line error: "3 wrong, 0 ambiguous, 2 replication false negatives,
+// ..." (every check's clause, validation/checks/check.h).
+std::string failureText(const ValidationReport& r);
 
 // The per-ray check (certify.h), shared by validate's and certify's reports: counts per set,
 // reasons, the first wrong and ambiguous rays, the leaks.
