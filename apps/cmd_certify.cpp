@@ -10,10 +10,10 @@
 #include "core/io/output_file.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
-#include "validation/diff_image.h"
-#include "validation/hit_files.h"
-#include "validation/ray_manifest.h"
-#include "validation/report.h"
+#include "validation/rays/hit_files.h"
+#include "validation/rays/ray_manifest.h"
+#include "validation/report/diff_image.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {

@@ -7,7 +7,7 @@
 #include "apps/cli.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
-#include "validation/mesh_topology.h"
+#include "core/scene/mesh_topology.h"
 
 namespace oct {
 namespace {

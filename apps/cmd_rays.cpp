@@ -1,7 +1,7 @@
-// octrace rays: the standard, seeded ray sets (validation/ray_sets.h, docs/CERTIFY.md) as a ray
-// file in the trace format, plus the manifest beside it that `octrace certify` reads.
+// octrace rays: the standard, seeded ray sets (validation/rays/ray_sets.h, docs/CERTIFY.md) as a
+// ray file in the trace format, plus the manifest beside it that `octrace certify` reads.
 //   R.npy  float32 (N, 8): ox oy oz dx dy dz tmin tmax (docs/TRACE_FORMAT.md)
-//   R.json the manifest (validation/ray_manifest.h): scene, seed, sets and their rows, camera
+//   R.json the manifest (validation/rays/ray_manifest.h): scene, seed, sets and their rows, camera
 //   T.npy  (--triangles) float32 (M, 9): each triangle's v0 v1 v2 in primitive id order
 #include <cstdio>
 #include <optional>
@@ -10,7 +10,7 @@
 #include "core/io/npy.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
-#include "validation/ray_manifest.h"
+#include "validation/rays/ray_manifest.h"
 
 namespace oct {
 namespace {
@@ -28,29 +28,28 @@ struct RaysOptions {
 };
 
 // --set: names or "all" (every set; on a point cloud, those that need no triangles).
-std::vector<RaySetKind> parseSets(const std::string& text, const Scene& scene,
-                                  std::vector<std::string>& notes) {
-    std::vector<RaySetKind> out;
+std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
+                                         std::vector<std::string>& notes) {
+    std::vector<const RaySetDesc*> out;
     for (const std::string& name : splitList(text)) {
         if (name == "all") {
-            for (int k = 0; k < kRaySetKindCount; ++k) {
-                RaySetKind kind = RaySetKind(k);
-                if (needsTriangles(kind) && scene.kind != PrimKind::Triangles) {
-                    notes.push_back(std::string("set ") + raySetName(kind) +
+            for (const RaySetDesc& kind : standardRaySets()) {
+                if (kind.needsTriangles && scene.kind != PrimKind::Triangles) {
+                    notes.push_back(std::string("set ") + kind.name +
                                     " left out: it needs a triangle mesh");
                     continue;
                 }
-                if (std::find(out.begin(), out.end(), kind) == out.end()) out.push_back(kind);
+                if (std::find(out.begin(), out.end(), &kind) == out.end()) out.push_back(&kind);
             }
             continue;
         }
-        std::optional<RaySetKind> k = findRaySet(name);
+        const RaySetDesc* k = findRaySet(name);
         if (!k)
             throw CLI::ValidationError("--set",
                                        "unknown set '" + name + "' (" + raySetNames() + ", all)");
-        if (std::find(out.begin(), out.end(), *k) != out.end())
+        if (std::find(out.begin(), out.end(), k) != out.end())
             throw CLI::ValidationError("--set", "'" + name + "' is named twice");
-        out.push_back(*k);
+        out.push_back(k);
     }
     if (out.empty())
         throw CLI::ValidationError("--set",
@@ -82,13 +81,12 @@ void runRays(const RaysOptions& o) {
     if (!o.triangles.empty() && scene.kind != PrimKind::Triangles)
         throw std::runtime_error("--triangles: '" + o.scene + "' is a point cloud");
 
-    // The shadow set starts at the reference's camera hits: Embree from the backend list.
+    // The shadow set starts at the reference's camera hits: the backend list's reference.
     std::unique_ptr<SceneTracer> reference;
     BuiltScene bare = bareScene(scene);
-    if (std::find(spec.sets.begin(), spec.sets.end(), RaySetKind::Shadow) != spec.sets.end()) {
-        std::string note;
-        reference = resolveBackend("embree", note).prepare(bare);
-    }
+    if (std::any_of(spec.sets.begin(), spec.sets.end(),
+                    [](const RaySetDesc* k) { return k->needsReference; }))
+        reference = referenceBackend().prepare(bare);
     TraceBatch trace;
     if (reference) trace = [&reference](RayBatchView b) { reference->trace(b); };
     RaySet rays = makeRaySet(scene, spec, trace);

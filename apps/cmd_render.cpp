@@ -10,7 +10,7 @@
 #include "core/scene/load_scene.h"
 #include "teach/heatmap.h"
 #include "teach/overlay.h"
-#include "validation/film_compare.h"
+#include "validation/policy/film_compare.h"
 
 namespace oct {
 namespace {

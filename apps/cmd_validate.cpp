@@ -10,13 +10,13 @@
 
 #include "apps/cli.h"
 #include "apps/policy_options.h"
+#include "bench/table1/table1.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
-#include "validation/cost_baseline.h"
-#include "validation/diff_image.h"
-#include "validation/report.h"
-#include "validation/table1.h"
+#include "validation/regression/regression_files.h"
+#include "validation/report/diff_image.h"
+#include "validation/report/report.h"
 #include "validation/validate.h"
 
 namespace oct {
@@ -96,7 +96,7 @@ void runValidate(const ValidateCliOptions& o) {
     std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
     std::vector<const BackendDesc*> backendList = backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
-    const RegressionChecks reg = runRegressionChecks(o.golden, o.costBaseline, o.update, ".");
+    const RegressionReport reg = runRegressionFiles(o.golden, o.costBaseline, o.update, ".");
     std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
     if (o.scene.path.empty()) {
         if (!reg.ran())
@@ -165,19 +165,8 @@ void runValidate(const ValidateCliOptions& o) {
         }
     std::fflush(stdout);
     if (!rep.passes() || !reg.passes())
-        throw std::runtime_error(
-            "validation FAILED: " + std::to_string(rep.wrong()) + " wrong, " +
-            std::to_string(rep.ambiguous()) + " ambiguous" +
-            (rep.replication && !rep.replication->passes()
-                 ? ", " + std::to_string(rep.replication->falseNegatives) +
-                       " replication false negatives, " +
-                       std::to_string(rep.replication->rangeErrors) + " broken node ranges"
-                 : std::string()) +
-            (rep.boxContract && !rep.boxContract->passes()
-                 ? ", box-test contract broken (" + std::to_string(rep.boxContract->culled) +
-                       " culled, " + std::to_string(rep.boxContract->loose) + " loose)"
-                 : std::string()) +
-            reg.failureText() + " (see the report above)");
+        throw std::runtime_error("validation FAILED: " + failureText(rep) + reg.failureText() +
+                                 " (see the report above)");
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "validation/hit_check.h"
+#include "validation/policy/hit_check.h"
 
 namespace oct {
 

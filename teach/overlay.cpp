@@ -4,31 +4,23 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/geometry/vec3t.h"
 #include "teach/legend.h"
 #include "teach/teach_error.h"
 
 namespace oct {
 namespace {
 
-struct D3 {
-    double x, y, z;
-};
-D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
-D3 operator-(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 operator+(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-D3 operator*(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dotd(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-
 // Camera-space coordinates of p: depth along forward and the image-plane coordinates sx, sy in
 // [-1, 1] across the image (primaryRay's parametrisation: dir ~ forward + sx right + sy up).
 struct CamPoint {
     double depth, sx, sy;
 };
-CamPoint toCamera(const Camera& c, D3 p) {
-    const D3 d = p - d3(c.eye);
-    const D3 r = d3(c.right), u = d3(c.up);
-    const double z = dotd(d, d3(c.forward));
-    return {z, dotd(d, r) / dotd(r, r) / z, dotd(d, u) / dotd(u, u) / z};
+CamPoint toCamera(const Camera& c, DVec3 p) {
+    const DVec3 d = p - toDouble(c.eye);
+    const DVec3 r = toDouble(c.right), u = toDouble(c.up);
+    const double z = dot(d, toDouble(c.forward));
+    return {z, dot(d, r) / dot(r, r) / z, dot(d, u) / dot(u, u) / z};
 }
 
 // Pixel coordinates (continuous; pixel i covers [i, i + 1)) of image-plane coordinates.
@@ -56,10 +48,11 @@ struct EdgeLayer {
 
 // Draws the segment a-b: samples about two per pixel of its projected length, each depth-tested
 // against the Film. The part behind the eye's near plane is clipped first.
-void drawEdge(EdgeLayer& img, const Film& film, const FrameParams& f, D3 a, D3 b, EdgeStyle st,
-              OverlayStats& stats) {
+void drawEdge(EdgeLayer& img, const Film& film, const FrameParams& f, DVec3 a, DVec3 b,
+              EdgeStyle st, OverlayStats& stats) {
     const Camera& c = f.camera;
-    const double za = dotd(a - d3(c.eye), d3(c.forward)), zb = dotd(b - d3(c.eye), d3(c.forward));
+    const double za = dot(a - toDouble(c.eye), toDouble(c.forward)),
+                 zb = dot(b - toDouble(c.eye), toDouble(c.forward));
     const double nearZ = 1e-6 * std::max(std::fabs(za), std::fabs(zb));
     if (za <= nearZ && zb <= nearZ) return;
     if (za <= nearZ) a = a + (b - a) * ((nearZ - za) / (zb - za));
@@ -72,15 +65,15 @@ void drawEdge(EdgeLayer& img, const Film& film, const FrameParams& f, D3 a, D3 b
     // Far outside the image an edge can span millions of pixels; a few per image pixel suffice.
     const int n = int(std::min(2.0 * span, 8.0 * (f.width + f.height))) + 2;
     for (int i = 0; i <= n; ++i) {
-        const D3 p = a + (b - a) * (double(i) / n);
+        const DVec3 p = a + (b - a) * (double(i) / n);
         const CamPoint q = toCamera(c, p);
         if (q.depth <= 0) continue;
         double x, y;
         toPixel(f, q.sx, q.sy, x, y);
         if (!(x >= 0 && y >= 0 && x < f.width && y < f.height)) continue;
         const int px = int(x), py = int(y);
-        const D3 d = p - d3(c.eye);
-        const double dist = std::sqrt(dotd(d, d));
+        const DVec3 d = p - toDouble(c.eye);
+        const double dist = std::sqrt(dot(d, d));
         const float t = film.t[size_t(py) * film.width + px];
         // Hidden when the surface along this pixel's ray is nearer than the sample; the margin
         // keeps edges lying on the surface itself visible despite rounding.
@@ -95,9 +88,9 @@ void drawEdge(EdgeLayer& img, const Film& film, const FrameParams& f, D3 a, D3 b
 
 void drawBox(EdgeLayer& img, const Film& film, const FrameParams& f, const Aabb& box, EdgeStyle st,
              OverlayStats& stats) {
-    const D3 lo = d3(box.lo), hi = d3(box.hi);
+    const DVec3 lo = toDouble(box.lo), hi = toDouble(box.hi);
     auto corner = [&](int i) {
-        return D3{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+        return DVec3{(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
     };
     // The 12 edges join corners that differ in one bit.
     for (int i = 0; i < 8; ++i)
@@ -108,11 +101,11 @@ void drawBox(EdgeLayer& img, const Film& film, const FrameParams& f, const Aabb&
 }  // namespace
 
 bool projectToPixel(const FrameParams& frame, Vec3 p, double& x, double& y, double& distance) {
-    const CamPoint q = toCamera(frame.camera, d3(p));
+    const CamPoint q = toCamera(frame.camera, toDouble(p));
     if (!(q.depth > 0)) return false;
     toPixel(frame, q.sx, q.sy, x, y);
-    const D3 d = d3(p) - d3(frame.camera.eye);
-    distance = std::sqrt(dotd(d, d));
+    const DVec3 d = toDouble(p) - toDouble(frame.camera.eye);
+    distance = std::sqrt(dot(d, d));
     return true;
 }
 

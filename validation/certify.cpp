@@ -139,8 +139,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const DoubleRay dr = toDoubleRay(ray);
             const double t = double(o.t);
             double dist;
-            o.prim = c.truth().nearestTo(
-                {dr.org.x + dr.dir.x * t, dr.org.y + dr.dir.y * t, dr.org.z + dr.dir.z * t}, dist);
+            o.prim = c.truth().nearestTo(dr.org + dr.dir * t, dist);
         }
         inferred[k] = o.prim;
         verdict[k] = c.recheckClosest(ray, o);
@@ -198,7 +197,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     for (const RaySetRange& s : rays.sets) {
         SetCertification sc;
         sc.range = s;
-        sc.adversarial = isAdversarialSet(s.name);
+        const RaySetDesc* kind = findRaySet(s.name);
+        sc.adversarial = kind && kind->adversarial;
         std::vector<Candidate> cand;
         const bool camera = s.name == "camera";
         if (camera) {

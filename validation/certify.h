@@ -27,20 +27,12 @@
 #include <string>
 #include <vector>
 
-#include "validation/hit_validation.h"
-#include "validation/mesh_topology.h"
-#include "validation/ray_sets.h"
+#include "core/scene/mesh_topology.h"
+#include "validation/policy/hit_validation.h"
+#include "validation/rays/hit_files.h"
+#include "validation/rays/ray_sets.h"
 
 namespace oct {
-
-// A tracer's answers, one per ray: PREFIX.t.npy and PREFIX.prim.npy (docs/TRACE_FORMAT.md).
-struct HitArrays {
-    std::vector<float> t;       // +inf on a miss
-    std::vector<int32_t> prim;  // -1 on a miss; empty when primIds is false
-    bool primIds = true;        // false: certify distances only (--no-prim)
-    uint64_t count() const { return t.size(); }
-    Hit at(uint64_t i) const { return {t[i], primIds ? prim[i] : int32_t(-1)}; }
-};
 
 struct LeakFinding {
     uint64_t index = 0;  // row
@@ -85,8 +77,8 @@ struct RayCertification {
 RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
                              const HitArrays& reference);
 
-// The camera set's outcome as a FilmValidation, for writeDiffImage (validation/diff_image.h).
-// Throws std::invalid_argument without a camera set or frame.
+// The camera set's outcome as a FilmValidation, for writeDiffImage
+// (validation/report/diff_image.h). Throws std::invalid_argument without a camera set or frame.
 FilmValidation cameraDiff(const RayCertification& r, const RaySet& rays);
 
 struct TopologySummary {

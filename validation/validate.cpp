@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "cpu_ref/embree_backend.h"
+#include "validation/checks/check.h"
 
 namespace oct {
 namespace {
@@ -12,6 +13,12 @@ double since(std::chrono::steady_clock::time_point t) {
 }
 
 }  // namespace
+
+bool RunReport::passes(double maxAmbiguousRate) const {
+    for (const RunCheck* c : runChecks())
+        if (!c->result(*this, maxAmbiguousRate).pass) return false;
+    return true;
+}
 
 uint64_t ValidationReport::wrong() const {
     uint64_t w = 0;
@@ -28,7 +35,9 @@ uint64_t ValidationReport::ambiguous() const {
 bool ValidationReport::passes() const {
     for (const RunReport& r : runs)
         if (!r.passes(policy.maxAmbiguousRate)) return false;
-    return (!replication || replication->passes()) && (!boxContract || boxContract->passes());
+    for (const SceneCheck* c : sceneChecks())
+        if (!c->result(*this).pass) return false;
+    return true;
 }
 
 ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,
@@ -43,7 +52,8 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
 
     HitClassifier classifier(scene, o.policy);
     rep.extent = classifier.extent();
-    FrameParams frame = makeFrame(scene.bounds(), o.camera);
+    CheckInputs in(scene, canonical, o, classifier);
+    in.frame = makeFrame(scene.bounds(), o.camera);
     // The inside view (validate.h): eye and light at the box's centre, the light 1% of the
     // extent above the eye so shadow rays do not retrace the primary rays exactly.
     CameraOptions insideCamera = o.camera;
@@ -52,27 +62,26 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     insideCamera.eye = centre;
     insideCamera.target = centre + Vec3{0.0f, 0.0f, 1.0f};
     insideCamera.light = centre + Vec3{0.0f, lift, 0.0f};
-    const FrameParams frameInside = makeFrame(scene.bounds(), insideCamera);
-    rep.width = frame.width;
-    rep.height = frame.height;
-    const RaySet rays = makeValidationRays(scene, o.rays, o.seed);
-    rep.rayCount = rays.count();
-    rep.raySets = rays.sets;
+    in.frameInside = makeFrame(scene.bounds(), insideCamera);
+    rep.width = in.frame.width;
+    rep.height = in.frame.height;
+    in.rays = makeValidationRays(scene, o.rays, o.seed);
+    const uint64_t rayCount = in.rays.count();
+    rep.rayCount = rayCount;
+    rep.raySets = in.rays.sets;
 
     // The reference: Embree (robust mode) through the same per-pixel kernel.
     auto refStart = std::chrono::steady_clock::now();
     const BuiltScene bare = bareScene(scene);
     EmbreeSceneTracer embree(bare);
-    Film refFilm;
-    embree.render(frame, refFilm);
-    Film refInside;
-    if (o.lightInside) embree.render(frameInside, refInside);
-    HitArrays ref;
-    ref.t.resize(rays.count());
-    ref.prim.resize(rays.count());
-    embree.trace({rays.rays.data(), ref.t.data(), ref.prim.data(), rays.count()});
+    embree.render(in.frame, in.reference);
+    if (o.lightInside) embree.render(in.frameInside, in.referenceInside);
+    in.referenceHits.t.resize(rayCount);
+    in.referenceHits.prim.resize(rayCount);
+    embree.trace(
+        {in.rays.rays.data(), in.referenceHits.t.data(), in.referenceHits.prim.data(), rayCount});
     rep.referenceSeconds = since(refStart);
-    OcclusionQuery occluded = [&embree](const Ray& r) {
+    in.referenceOccluded = [&embree](const Ray& r) {
         TraceCost cost = {0, 0};
         return anyHit(embree.embree().accel(), r, cost);
     };
@@ -83,31 +92,21 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
         run.backend = t.backend;
         auto t0 = std::chrono::steady_clock::now();
         Film film;
-        t.render(frame, film);
+        t.render(in.frame, film);
         run.renderSeconds = since(t0);
-        // Generate our hits, then certify them: the same code as `octrace certify`.
+        // Our hits of the ray sets, certified by the rays check: the code of `octrace certify`.
         HitArrays ours;
-        ours.t.resize(rays.count());
-        ours.prim.resize(rays.count());
+        ours.t.resize(rayCount);
+        ours.prim.resize(rayCount);
         t0 = std::chrono::steady_clock::now();
-        if (rays.count() > 0)
-            t.trace({rays.rays.data(), ours.t.data(), ours.prim.data(), rays.count()});
+        if (rayCount > 0) t.trace({in.rays.rays.data(), ours.t.data(), ours.prim.data(), rayCount});
         run.traceSeconds = since(t0);
         t0 = std::chrono::steady_clock::now();
-        run.film = validateFilm(classifier, frame, film, refFilm, occluded);
-        if (o.lightInside) {
-            Film inside;
-            t.render(frameInside, inside);
-            run.lightInside = validateFilm(classifier, frameInside, inside, refInside, occluded);
-        }
-        if (t.lookup && canonical) run.structure = checkLayoutStructure(*canonical, t.lookup);
-        run.rays = certifyRays(classifier, rays, ours, ref);
+        for (const RunCheck* c : runChecks()) c->run(in, {t, film, ours}, run);
         run.checkSeconds = since(t0);
         rep.runs.push_back(std::move(run));
     }
-    if (o.replication && canonical) rep.replication = checkReplication(scene, *canonical);
-    if (o.boxContractRays > 0 && canonical)
-        rep.boxContract = checkBoxContract(*canonical, o.boxContractRays, o.seed);
+    for (const SceneCheck* c : sceneChecks()) c->run(in, rep);
     rep.seconds = since(start);
     return rep;
 }

@@ -15,11 +15,11 @@
 #include "core/octree/octree.h"
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
-#include "validation/box_contract.h"
 #include "validation/certify.h"
-#include "validation/hit_validation.h"
-#include "validation/layout_structure.h"
-#include "validation/replication.h"
+#include "validation/exact/box_contract.h"
+#include "validation/exact/layout_structure.h"
+#include "validation/exact/replication.h"
+#include "validation/policy/hit_validation.h"
 
 namespace oct {
 
@@ -62,11 +62,7 @@ struct RunReport {
     RayCertification rays;
     double renderSeconds = 0.0, traceSeconds = 0.0, checkSeconds = 0.0;
 
-    bool passes(double maxAmbiguousRate) const {
-        return film.passes(maxAmbiguousRate) && rays.passes(maxAmbiguousRate) &&
-               (!lightInside || lightInside->passes(maxAmbiguousRate)) &&
-               (!structure || structure->passes());
-    }
+    bool passes(double maxAmbiguousRate) const;  // every run check (validation/checks/check.h)
     uint64_t wrong() const {
         return film.primary.wrong + film.shadow.wrong + rays.all.wrong +
                (lightInside ? lightInside->primary.wrong + lightInside->shadow.wrong : 0);
@@ -94,7 +90,7 @@ struct ValidationReport {
 
     uint64_t wrong() const;
     uint64_t ambiguous() const;
-    bool passes() const;
+    bool passes() const;  // every run, every scene check
 };
 
 // Validates every tracer against Embree on `scene`. `canonical` (may be null) is the octree the

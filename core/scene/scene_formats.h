@@ -1,6 +1,6 @@
 // The scene file formats octrace reads, one row each, chosen by the file's extension
 // (case-insensitive). The one list of them: loadScene dispatches on it, Table 1
-// (validation/table1.cpp) lists the mesh files it names, the fuzz target (fuzz/fuzz_scene.cpp)
+// (bench/table1/table1.cpp) lists the mesh files it names, the fuzz target (fuzz/fuzz_scene.cpp)
 // picks its extension from it, and the command line's help text is made from it. Adding a
 // format is its loader (core/scene/format_NAME.cpp) plus one row in scene_formats.cpp.
 #pragma once

@@ -17,7 +17,7 @@
 #include "core/scene/load_scene.h"
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
-#include "validation/ray_sets.h"
+#include "validation/rays/ray_sets.h"
 
 namespace oct {
 namespace {

@@ -34,7 +34,7 @@
 #include "cpu_ref/render_cpu.h"
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
-#include "validation/film_compare.h"
+#include "validation/policy/film_compare.h"
 
 namespace oct {
 namespace {

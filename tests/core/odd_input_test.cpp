@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/scene/load_scene.h"
+#include "tests/core/same_values.h"
 
 namespace oct {
 namespace {
@@ -45,7 +46,7 @@ std::vector<OddFile> readOddManifest() {
     return entries;
 }
 
-bool sameVec(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+using octtest::sameVec;
 
 TEST(OddCorpus, ManifestListsEveryFileAndEveryFileExists) {
     const std::vector<OddFile> entries = readOddManifest();

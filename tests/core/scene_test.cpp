@@ -19,13 +19,14 @@
 
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
+#include "tests/core/same_values.h"
 
 namespace oct {
 namespace {
 
 namespace fs = std::filesystem;
 
-bool sameVec(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+using octtest::sameVec;
 
 ::testing::AssertionResult triangleIs(const Triangle& t, Vec3 a, Vec3 b, Vec3 c) {
     if (sameVec(t.v0, a) && sameVec(t.v1, b) && sameVec(t.v2, c))

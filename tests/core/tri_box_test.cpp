@@ -22,15 +22,15 @@ using octtest::SatResult;
 
 // A box given as the float test receives it (centre and half size) and a float triangle.
 struct Pair {
-    V3<float> c, h;
-    V3<float> v[3];
+    Vec3T<float> c, h;
+    Vec3T<float> v[3];
     int mode = -1;  // how randomPairs made it (-1: by hand)
 };
 
-glm::dvec3 d3(V3<float> v) { return {double(v.x), double(v.y), double(v.z)}; }
+glm::dvec3 d3(Vec3T<float> v) { return {double(v.x), double(v.y), double(v.z)}; }
 glm::dvec3 d3(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
-V3<double> v3d(V3<float> v) { return {double(v.x), double(v.y), double(v.z)}; }
-Vec3 toVec3(V3<float> v) { return {v.x, v.y, v.z}; }
+Vec3T<double> v3d(Vec3T<float> v) { return {double(v.x), double(v.y), double(v.z)}; }
+Vec3 toVec3(Vec3T<float> v) { return {v.x, v.y, v.z}; }
 
 // Exact box of a pair: centre +- half size, each a float, so the sums are exact in double.
 SatResult bruteOfPair(const Pair& p, double eps) {
@@ -288,11 +288,11 @@ TEST(TriBox, BuilderCountsTouchingOnBoxWithInexactCentre) {
 
 struct Case {
     const char* name;
-    V3<float> a, b, c;
+    Vec3T<float> a, b, c;
     bool expected;
 };
 
-void checkCase(const Case& k, V3<float> centre = {0, 0, 0}, V3<float> half = {1, 1, 1}) {
+void checkCase(const Case& k, Vec3T<float> centre = {0, 0, 0}, Vec3T<float> half = {1, 1, 1}) {
     Pair p{centre, half, {k.a, k.b, k.c}};
     SatResult ref = bruteOfPair(p, 0.0);
     EXPECT_EQ(ref.overlap, k.expected) << k.name << " (brute force disagrees with the case)";
@@ -390,9 +390,10 @@ TEST(TriBox, HandMadeContainmentAndSlicing) {
 
 // The same cases moved and scaled: a non-unit box far from the origin.
 TEST(TriBox, HandMadeCasesOnOffsetBox) {
-    const V3<float> centre = {64.0f, -32.0f, 16.0f}, half = {0.25f, 0.5f, 2.0f};
-    auto map = [&](V3<float> p) {
-        return V3<float>{centre.x + p.x * half.x, centre.y + p.y * half.y, centre.z + p.z * half.z};
+    const Vec3T<float> centre = {64.0f, -32.0f, 16.0f}, half = {0.25f, 0.5f, 2.0f};
+    auto map = [&](Vec3T<float> p) {
+        return Vec3T<float>{centre.x + p.x * half.x, centre.y + p.y * half.y,
+                            centre.z + p.z * half.z};
     };
     const Case cases[] = {
         {"touching face", map({1, 0, 0}), map({3, 0.5f, 0}), map({3, -0.5f, 0.5f}), true},

@@ -1,6 +1,6 @@
 // The OpenMP backend against two independent references, frame by frame:
 //  - Embree (a different traversal and a different triangle/sphere test) per pixel, by the
-//    hit-distance policy of docs/VALIDATION.md (validation/film_compare.h);
+//    hit-distance policy of docs/VALIDATION.md (validation/policy/film_compare.h);
 //  - exhaustive tracing with the same kernel: every layout must return bitwise the same t,
 //    primitive, shadow outcome and colour, because the primitive tests and the tie rule are
 //    shared and the octree only decides which primitives are tested.
@@ -23,7 +23,7 @@
 // cpu_ref_tests links octrace_cpu only; the comparison lives in validation/ (which depends on
 // cpu_ref, not the other way round). It is header-light and self-contained, so it is compiled
 // into this test directly rather than changing the link graph of the test binaries.
-#include "validation/film_compare.h"
+#include "validation/policy/film_compare.h"
 
 namespace oct {
 namespace {

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "backends/backend_list.h"
+#include "core/geometry/vec3t.h"
 #include "core/octree/built_scene.h"
 #include "core/render/frame.h"
 #include "core/scene/load_scene.h"
@@ -25,16 +26,6 @@ namespace {
 constexpr int kSide = 128;
 // Just under the ceiling (y = 548.8), over the middle of the floor.
 const Vec3 kLight = {278.0f, 540.0f, 279.0f};
-
-struct D3 {
-    double x, y, z;
-};
-D3 d3(Vec3 v) { return {v.x, v.y, v.z}; }
-D3 operator-(D3 a, D3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
-D3 operator+(D3 a, D3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
-D3 operator*(D3 a, double s) { return {a.x * s, a.y * s, a.z * s}; }
-double dotD(D3 a, D3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-D3 unit(D3 a) { return a * (1.0 / std::sqrt(dotD(a, a))); }
 
 // Round-to-nearest conversion of a colour channel, as an image writer would do it.
 int byteOf(double c) { return int(std::floor(std::min(std::max(c, 0.0), 1.0) * 255.0 + 0.5)); }
@@ -78,10 +69,10 @@ protected:
     // The pixel through which the camera sees p (inverse of primaryRay).
     static void pixelOf(Vec3 p, int& x, int& y) {
         const Camera& c = frame_.camera;
-        D3 d = d3(p) - d3(c.eye);
-        double f = dotD(d, d3(c.forward));
-        double sx = dotD(d, d3(c.right)) / (dotD(d3(c.right), d3(c.right)) * f);
-        double sy = dotD(d, d3(c.up)) / (dotD(d3(c.up), d3(c.up)) * f);
+        DVec3 d = toDouble(p) - toDouble(c.eye);
+        double f = dot(d, toDouble(c.forward));
+        double sx = dot(d, toDouble(c.right)) / (dot(toDouble(c.right), toDouble(c.right)) * f);
+        double sy = dot(d, toDouble(c.up)) / (dot(toDouble(c.up), toDouble(c.up)) * f);
         x = int(std::floor((sx + 1.0) * 0.5 * kSide));
         y = int(std::floor((1.0 - sy) * 0.5 * kSide));
         ASSERT_TRUE(x >= 0 && x < kSide && y >= 0 && y < kSide) << "point outside the frame";
@@ -90,9 +81,9 @@ protected:
     static size_t index(int x, int y) { return size_t(y) * kSide + size_t(x); }
 
     // Hit point of pixel (x, y) from the film's t, in double.
-    static D3 hitPoint(int x, int y) {
+    static DVec3 hitPoint(int x, int y) {
         Ray r = primaryRay(frame_.camera, x, y, kSide, kSide);
-        return d3(r.org) + d3(r.dir) * double(film_->t[index(x, y)]);
+        return toDouble(r.org) + toDouble(r.dir) * double(film_->t[index(x, y)]);
     }
 
     static bool contains(const std::vector<int32_t>& ids, int32_t id) {
@@ -119,7 +110,7 @@ TEST_F(CornellImage, CornerPixelIsExactlyTheBackground) {
     Ray r = primaryRay(frame_.camera, x, y, kSide, kSide);
     ASSERT_GT(r.dir.z, 0.0f);
     double tFront = (double(b.lo.z) - r.org.z) / r.dir.z;
-    D3 entry = d3(r.org) + d3(r.dir) * tFront;
+    DVec3 entry = toDouble(r.org) + toDouble(r.dir) * tFront;
     bool leftAndLeaving = entry.x < b.lo.x && r.dir.x <= 0.0f;
     bool aboveAndLeaving = entry.y > b.hi.y && r.dir.y >= 0.0f;
     ASSERT_TRUE(leftAndLeaving || aboveAndLeaving)
@@ -149,7 +140,7 @@ TEST_F(CornellImage, BackWallPointIsLitWithPhongColour) {
     size_t i = index(x, y);
     ASSERT_TRUE(contains(backWall, film_->prim[i]))
         << "pixel " << x << "," << y << " hit primitive " << film_->prim[i];
-    D3 h = hitPoint(x, y);
+    DVec3 h = hitPoint(x, y);
     EXPECT_NEAR(h.z, wallZ, 1e-2);
     ASSERT_GT(h.y, 340.0);  // the premise of "nothing can shadow it"
     EXPECT_EQ(film_->shadow[i], kLit);
@@ -159,12 +150,12 @@ TEST_F(CornellImage, BackWallPointIsLitWithPhongColour) {
     // Phong in double: normal -z (towards the camera), light direction from the hit point.
     const ShadingParams& s = frame_.shading;
     Ray r = primaryRay(frame_.camera, x, y, kSide, kSide);
-    D3 n = {0.0, 0.0, -1.0};
-    D3 toLight = unit(d3(s.light) - h);
-    double nl = dotD(n, toLight);
+    DVec3 n = {0.0, 0.0, -1.0};
+    DVec3 toLight = normalize(toDouble(s.light) - h);
+    double nl = dot(n, toLight);
     ASSERT_GT(nl, 0.0);
-    D3 reflected = n * (2.0 * nl) - toLight;
-    double rv = std::max(0.0, -dotD(reflected, d3(r.dir)));
+    DVec3 reflected = n * (2.0 * nl) - toLight;
+    double rv = std::max(0.0, -dot(reflected, toDouble(r.dir)));
     double spec = s.specular * std::pow(rv, 32.0);
     const double albedo[3] = {s.surfaceColour.x, s.surfaceColour.y, s.surfaceColour.z};
     for (int k = 0; k < 3; ++k) {
@@ -189,19 +180,19 @@ TEST_F(CornellImage, FloorPointInFrontOfShortBlockIsInItsShadow) {
     size_t i = index(x, y);
     ASSERT_TRUE(contains(floor, film_->prim[i]))
         << "pixel " << x << "," << y << " hit primitive " << film_->prim[i];
-    D3 h = hitPoint(x, y);
+    DVec3 h = hitPoint(x, y);
     EXPECT_NEAR(h.y, 0.0, 1e-2);
 
     // Independent occlusion check for the actual hit point: where does its segment to the
     // light cross the vertical plane of the block's front face?
-    const D3 a = {130.0, 0.0, 65.0}, b = {290.0, 0.0, 114.0};
-    const D3 l = d3(frame_.shading.light);
-    auto side = [&](D3 p) { return (b.x - a.x) * (p.z - a.z) - (b.z - a.z) * (p.x - a.x); };
+    const DVec3 a = {130.0, 0.0, 65.0}, b = {290.0, 0.0, 114.0};
+    const DVec3 l = toDouble(frame_.shading.light);
+    auto side = [&](DVec3 p) { return (b.x - a.x) * (p.z - a.z) - (b.z - a.z) * (p.x - a.x); };
     double s0 = side(h), s1 = side(l);
     ASSERT_LT(s0 * s1, 0.0) << "hit point and light must lie on opposite sides of the face";
     double u = s0 / (s0 - s1);
-    D3 cross = h + (l - h) * u;
-    double along = dotD(cross - a, b - a) / dotD(b - a, b - a);
+    DVec3 cross = h + (l - h) * u;
+    double along = dot(cross - a, b - a) / dot(b - a, b - a);
     ASSERT_GT(cross.y, 10.0);
     ASSERT_LT(cross.y, 155.0);
     ASSERT_GT(along, 0.05);

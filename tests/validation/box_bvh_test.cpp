@@ -1,7 +1,7 @@
-// The double truth's BVH (validation/box_bvh.h) is a filter: against the brute force over every
-// box, it must hand over every box a segment meets and every box within the best distance of a
-// point, on seeded random boxes and segments, touching and axis-parallel ones included.
-#include "validation/box_bvh.h"
+// The double truth's BVH (validation/policy/box_bvh.h) is a filter: against the brute force over
+// every box, it must hand over every box a segment meets and every box within the best distance of
+// a point, on seeded random boxes and segments, touching and axis-parallel ones included.
+#include "validation/policy/box_bvh.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The box-test contract (validation/box_contract.h): the kernel's slab tests keep it on a real
-// octree, and the faults a slip would make in them (the mutations of scripts/mutations.txt)
+// The box-test contract (validation/exact/box_contract.h): the kernel's slab tests keep it on a
+// real octree, and the faults a slip would make in them (the mutations of scripts/mutations.txt)
 // break it, each seen by validate's check.
-#include "validation/box_contract.h"
+#include "validation/exact/box_contract.h"
 
 #include <gtest/gtest.h>
 

@@ -15,7 +15,7 @@
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
 #include "tests/validation/fixtures.h"
-#include "validation/report.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {
@@ -25,9 +25,8 @@ using octtest::meshPath;
 // Every standard set a mesh offers, small: camera 24x24 with its shadow rays, 2800 seeded rays.
 RaySet standardRays(const Scene& scene, uint64_t count = 2800) {
     RaySetSpec spec;
-    for (int k = 0; k < kRaySetKindCount; ++k)
-        if (!needsTriangles(RaySetKind(k)) || scene.kind == PrimKind::Triangles)
-            spec.sets.push_back(RaySetKind(k));
+    for (const RaySetDesc& k : standardRaySets())
+        if (!k.needsTriangles || scene.kind == PrimKind::Triangles) spec.sets.push_back(&k);
     spec.count = count;
     spec.seed = 9;
     spec.camera.width = spec.camera.height = 24;
@@ -209,7 +208,7 @@ TEST(CertifyLeaks, ACrackAtOneEdgeLeaksAndNamesTheEdge) {
     Scene scene = loadScene(meshPath("cube_binary.ply"));
     ASSERT_TRUE(meshTopology(scene).closed());
     RaySetSpec spec;
-    spec.sets = {RaySetKind::Edges, RaySetKind::Vertices};
+    spec.sets = {findRaySet("edges"), findRaySet("vertices")};
     spec.count = 600;
     spec.seed = 4;
     const RaySet rays = makeRaySet(scene, spec);
@@ -261,7 +260,7 @@ TEST(CertifyLeaks, ACrackAtOneEdgeLeaksAndNamesTheEdge) {
 TEST(Certify, CameraSetGivesTheDiffImage) {
     Scene scene = loadScene(meshPath("cube_binary.ply"));
     RaySetSpec spec;
-    spec.sets = {RaySetKind::Camera, RaySetKind::Around};
+    spec.sets = {findRaySet("camera"), findRaySet("around")};
     spec.count = 50;
     spec.camera.width = 12;
     spec.camera.height = 8;

@@ -1,7 +1,7 @@
-// Cost baselines (validation/cost_baseline.h): the committed baselines are reproduced exactly by
-// this build for every scene and every layout of the registry; an inflated cost fails, a small
-// change passes, a drop is reported and passes, a layout without a baseline fails.
-#include "validation/cost_baseline.h"
+// Cost baselines (validation/regression/cost_baseline.h): the committed baselines are reproduced
+// exactly by this build for every scene and every layout of the registry; an inflated cost fails, a
+// small change passes, a drop is reported and passes, a layout without a baseline fails.
+#include "validation/regression/cost_baseline.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
-// The replication check's references (validation/exact_overlap.h): CGAL's exact test against
+// The replication check's references (validation/exact/exact_overlap.h): CGAL's exact test against
 // hand-made touching cases, and against our float and double Akenine-Möller tests on seeded
 // random cases away from touching configurations, where all of them must agree.
-#include "validation/exact_overlap.h"
+#include "validation/exact/exact_overlap.h"
 
 #include <gtest/gtest.h>
 

@@ -8,7 +8,7 @@
 
 #include "core/octree/built_scene.h"
 #include "tests/validation/fixtures.h"
-#include "validation/report.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {

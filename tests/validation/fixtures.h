@@ -11,19 +11,10 @@
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
 #include "cpu_ref/render_cpu.h"
+#include "tests/paths.h"
 #include "validation/validate.h"
 
 namespace octtest {
-
-inline std::string meshPath(const std::string& name) {
-    return std::string(OCT_SOURCE_DIR) + "/meshes/" + name;
-}
-
-// The committed meshes (meshes/README.md).
-inline std::vector<std::string> committedMeshes() {
-    return {"cornell_box.obj", "teapot.obj", "spider.obj",      "wuson.obj",           "wuson.off",
-            "wuson.ply",       "wuson.stl",  "cube_binary.ply", "sphere_with_hole.stl"};
-}
 
 // Built layouts kept alive for the tracers' callables.
 struct CpuTracers {

@@ -1,7 +1,7 @@
-// Golden images (validation/golden.h): the committed scenes rendered by this build, with every
-// layout and with Embree's hits, against the images committed in tests/data/golden/; an image
+// Golden images (validation/regression/golden.h): the committed scenes rendered by this build, with
+// every layout and with Embree's hits, against the images committed in tests/data/golden/; an image
 // altered on purpose fails by the documented rule; the rule's boundaries; --update's report.
-#include "validation/golden.h"
+#include "validation/regression/golden.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@
 #include "tests/json_file.h"
 #include "tests/paths.h"
 #include "tests/validation/fixtures.h"
-#include "validation/ray_manifest.h"
+#include "validation/rays/ray_manifest.h"
 
 namespace {
 

@@ -1,6 +1,6 @@
-// The per-ray policy (validation/hit_check.h) on hand-made configurations whose right answer
+// The per-ray policy (validation/policy/hit_check.h) on hand-made configurations whose right answer
 // is known: a unit quad of two triangles in the plane z = 0 and a sphere.
-#include "validation/hit_check.h"
+#include "validation/policy/hit_check.h"
 
 #include <gtest/gtest.h>
 

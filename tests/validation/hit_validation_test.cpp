@@ -1,7 +1,7 @@
-// validateFilm (validation/hit_validation.h) on Films that differ from Embree's in one chosen
-// way: a malformed hit, a wrong primitive at the right distance, a flood of primary mismatches
-// next to one false shadow. Each must be found and classed as the policy says.
-#include "validation/hit_validation.h"
+// validateFilm (validation/policy/hit_validation.h) on Films that differ from Embree's in one
+// chosen way: a malformed hit, a wrong primitive at the right distance, a flood of primary
+// mismatches next to one false shadow. Each must be found and classed as the policy says.
+#include "validation/policy/hit_validation.h"
 
 #include <gtest/gtest.h>
 

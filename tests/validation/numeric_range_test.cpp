@@ -2,7 +2,7 @@
 // coordinates and the smallest extent octrace accepts, rays from the farthest origins with the
 // shortest and longest directions it accepts, traced by the kernel (exhaustive and linear, the
 // same code as CUDA) and by Embree, each rechecked against the double-precision truth
-// (validation/hit_check.h): no wrong answer, no hit at t = +inf. Outside the range, the
+// (validation/policy/hit_check.h): no wrong answer, no hit at t = +inf. Outside the range, the
 // kernel's primitive tests and Embree's adapter still never report a hit at t = +inf.
 #include "core/geometry/numeric_range.h"
 
@@ -19,8 +19,8 @@
 #include "core/render/frame.h"
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
-#include "validation/film_compare.h"
-#include "validation/hit_check.h"
+#include "validation/policy/film_compare.h"
+#include "validation/policy/hit_check.h"
 
 namespace oct {
 namespace {

@@ -1,17 +1,17 @@
-// The standard ray sets (validation/ray_sets.h): validate's seeded sets, and every set of
+// The standard ray sets (validation/rays/ray_sets.h): validate's seeded sets, and every set of
 // `octrace rays`: reproducible to the byte (a pinned checksum), well formed, and the edges and
 // vertices rays sealed at their targets.
-#include "validation/ray_sets.h"
+#include "validation/rays/ray_sets.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/octree/octree.h"
+#include "core/scene/mesh_topology.h"
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
-#include "validation/double_tracer.h"
-#include "validation/mesh_topology.h"
+#include "validation/policy/double_tracer.h"
 
 namespace oct {
 namespace {
@@ -79,7 +79,7 @@ TEST(RaySets, ZeroRaysIsEmpty) {
 RaySetSpec seededSpec(uint64_t count, uint64_t seed) {
     RaySetSpec spec;
     for (const char* n : {"around", "inside", "axis", "edges", "vertices", "grazing", "tmin-tmax"})
-        spec.sets.push_back(*findRaySet(n));
+        spec.sets.push_back(findRaySet(n));
     spec.count = count;
     spec.seed = seed;
     return spec;
@@ -102,9 +102,9 @@ TEST(RaySets, SeededSetsHaveAPinnedChecksum) {
 TEST(RaySets, EachSetHasItsOwnStream) {
     Scene scene = loadScene(octtest::meshPath("teapot.obj"));
     RaySetSpec both = seededSpec(200, 3);
-    both.sets = {*findRaySet("around"), *findRaySet("edges")};
+    both.sets = {findRaySet("around"), findRaySet("edges")};
     RaySetSpec alone = both;
-    alone.sets = {*findRaySet("edges")};
+    alone.sets = {findRaySet("edges")};
     alone.count = 100;
     RaySet a = makeRaySet(scene, both), b = makeRaySet(scene, alone);
     const RaySetRange* e = a.find("edges");
@@ -120,7 +120,7 @@ TEST(RaySets, EdgeAndVertexTargetsAreHitByTheTruth) {
         SCOPED_TRACE(mesh);
         Scene scene = loadScene(octtest::meshPath(mesh));
         RaySetSpec spec = seededSpec(400, 11);
-        spec.sets = {*findRaySet("edges"), *findRaySet("vertices")};
+        spec.sets = {findRaySet("edges"), findRaySet("vertices")};
         RaySet r = makeRaySet(scene, spec);
         ASSERT_EQ(r.targets.size(), 400u);
         MeshTopology topo = meshTopology(scene);
@@ -143,7 +143,7 @@ TEST(RaySets, EdgeAndVertexTargetsAreHitByTheTruth) {
 TEST(RaySets, CameraShadowAndTriangleOnlySets) {
     Scene scene = loadScene(octtest::meshPath("cube_binary.ply"));
     RaySetSpec spec;
-    spec.sets = {RaySetKind::Camera, RaySetKind::Shadow};
+    spec.sets = {findRaySet("camera"), findRaySet("shadow")};
     spec.camera.width = 20;
     spec.camera.height = 10;
     EXPECT_THROW(makeRaySet(scene, spec), std::invalid_argument);  // shadow needs a reference
@@ -161,9 +161,9 @@ TEST(RaySets, CameraShadowAndTriangleOnlySets) {
 
     Scene cloud = makeGridCloud(100, 1);
     RaySetSpec edges;
-    edges.sets = {RaySetKind::Edges};
+    edges.sets = {findRaySet("edges")};
     EXPECT_THROW(makeRaySet(cloud, edges), std::invalid_argument);
-    edges.sets = {RaySetKind::Around, RaySetKind::Around};
+    edges.sets = {findRaySet("around"), findRaySet("around")};
     EXPECT_THROW(makeRaySet(scene, edges), std::invalid_argument);
 }
 

@@ -11,7 +11,7 @@
 #include "core/io/output_file.h"
 #include "tests/cli_harness.h"
 #include "tests/json_file.h"
-#include "validation/golden.h"
+#include "validation/regression/golden.h"
 
 namespace {
 

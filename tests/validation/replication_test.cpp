@@ -1,15 +1,15 @@
-// The replication check (validation/replication.h): the builder's leaf lists against CGAL's
+// The replication check (validation/exact/replication.h): the builder's leaf lists against CGAL's
 // exact overlap test. No false negatives on real meshes and a generated cloud; a primitive
 // removed from one leaf on purpose is found and named; an extra one is a counted false positive.
-#include "validation/replication.h"
+#include "validation/exact/replication.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 
 #include "tests/validation/fixtures.h"
-#include "validation/exact_overlap.h"
-#include "validation/report.h"
+#include "validation/exact/exact_overlap.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {

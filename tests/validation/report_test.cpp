@@ -1,10 +1,9 @@
-// Report fields (validation/report.h) and Table 1 (validation/table1.h).
-#include "validation/report.h"
+// Report fields (validation/report/report.h).
+#include "validation/report/report.h"
 
 #include <gtest/gtest.h>
 
 #include "tests/validation/fixtures.h"
-#include "validation/table1.h"
 
 namespace oct {
 namespace {
@@ -30,18 +29,6 @@ TEST(Report, JsonHasThePlainFields) {
     EXPECT_EQ(j["ray_set"]["around"], 100);
     EXPECT_EQ(j["policy"]["max_ambiguous_rate"], rep.policy.maxAmbiguousRate);
     EXPECT_NE(humanSummary(rep).find("PASS"), std::string::npos);
-}
-
-TEST(Table1, CountsOfTheUnitCube) {
-    Table1Row r = table1Row(octtest::meshPath("cube_binary.ply"), BuildParams{});
-    EXPECT_EQ(r.name, "cube_binary.ply");
-    EXPECT_EQ(r.vertices, 8u);
-    EXPECT_EQ(r.faces, 12u);
-    EXPECT_EQ(r.octreeFaces, 48u);  // each face triangle in the 4 leaves of its side
-    std::vector<std::string> meshes = table1Meshes(std::string(OCT_SOURCE_DIR) + "/meshes");
-    EXPECT_GE(meshes.size(), octtest::committedMeshes().size());
-    EXPECT_NE(humanTable1({r}).find("cube_binary.ply"), std::string::npos);
-    EXPECT_THROW(table1Meshes(std::string(OCT_SOURCE_DIR) + "/no-such-dir"), std::runtime_error);
 }
 
 }  // namespace

@@ -10,8 +10,8 @@
 #include "core/octree/built_scene.h"
 #include "cpu_ref/embree_tracer.h"
 #include "tests/validation/fixtures.h"
-#include "validation/diff_image.h"
-#include "validation/report.h"
+#include "validation/report/diff_image.h"
+#include "validation/report/report.h"
 
 namespace oct {
 namespace {

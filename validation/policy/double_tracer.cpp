@@ -1,0 +1,304 @@
+#include "validation/policy/double_tracer.h"
+
+#include <algorithm>
+
+namespace oct {
+namespace {
+
+double clamp01(double x) { return x < 0.0 ? 0.0 : (x > 1.0 ? 1.0 : x); }
+
+// Squared distance between segments p1q1 and p2q2 (Ericson, Real-Time Collision Detection,
+// sec. 5.1.9), degenerate segments included.
+double segmentSegmentDist2(DVec3 p1, DVec3 q1, DVec3 p2, DVec3 q2) {
+    DVec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+    double a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, r);
+    double s, t;
+    if (a <= 0.0 && e <= 0.0) return dot(r, r);
+    if (a <= 0.0) {
+        s = 0.0;
+        t = clamp01(f / e);
+    } else {
+        double c = dot(d1, r);
+        if (e <= 0.0) {
+            t = 0.0;
+            s = clamp01(-c / a);
+        } else {
+            double b = dot(d1, d2), denom = a * e - b * b;
+            s = denom > 0.0 ? clamp01((b * f - c * e) / denom) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0.0) {
+                t = 0.0;
+                s = clamp01(-c / a);
+            } else if (t > 1.0) {
+                t = 1.0;
+                s = clamp01((b - c) / a);
+            }
+        }
+    }
+    DVec3 diff = (p1 + d1 * s) - (p2 + d2 * t);
+    return dot(diff, diff);
+}
+
+// Closest point of triangle abc to p (Ericson, sec. 5.1.5).
+DVec3 closestOnTriangle(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
+    DVec3 ab = b - a, ac = c - a, ap = p - a;
+    double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0.0 && d2 <= 0.0) return a;
+    DVec3 bp = p - b;
+    double d3v = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3v >= 0.0 && d4 <= d3v) return b;
+    double vc = d1 * d4 - d3v * d2;
+    if (vc <= 0.0 && d1 >= 0.0 && d3v <= 0.0) return a + ab * (d1 / (d1 - d3v));
+    DVec3 cp = p - c;
+    double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0.0 && d5 <= d6) return c;
+    double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+    double va = d3v * d6 - d5 * d4;
+    if (va <= 0.0 && (d4 - d3v) >= 0.0 && (d5 - d6) >= 0.0)
+        return b + (c - b) * ((d4 - d3v) / ((d4 - d3v) + (d5 - d6)));
+    double sum = va + vb + vc;
+    if (!(sum != 0.0)) return a;  // degenerate triangle: fall back to a vertex
+    double v = vb / sum, w = vc / sum;
+    return a + ab * v + ac * w;
+}
+
+double pointTriangleDist(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
+    return length(p - closestOnTriangle(p, a, b, c));
+}
+
+// Distance from p to the segment a + s (b - a), s in [0, 1].
+double pointSegmentDist(DVec3 p, DVec3 a, DVec3 b) {
+    DVec3 ab = b - a;
+    double l2 = dot(ab, ab);
+    double s = l2 > 0.0 ? clamp01(dot(p - a, ab) / l2) : 0.0;
+    return length(p - (a + ab * s));
+}
+
+// Watertight ray/triangle test in double: the three signed volumes of the ray with each edge
+// are computed from the same differences for both triangles sharing an edge (with opposite
+// sign), so a ray through a shared edge hits at least one of them.
+bool rayTriangle(const DoubleRay& r, DVec3 v0, DVec3 v1, DVec3 v2, double& t) {
+    DVec3 a = v0 - r.org, b = v1 - r.org, c = v2 - r.org;
+    double u = dot(r.dir, cross(b, c));
+    double v = dot(r.dir, cross(c, a));
+    double w = dot(r.dir, cross(a, b));
+    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
+    if (u + v + w == 0.0) return false;
+    DVec3 n = cross(v1 - v0, v2 - v0);
+    double nd = dot(n, r.dir);
+    if (nd == 0.0) return false;
+    t = dot(n, a) / nd;
+    return t >= r.tmin && t <= r.tmax;
+}
+
+// Ray/sphere in double: the closest-approach discriminant and the stable roots.
+bool raySphere(const DoubleRay& r, DVec3 c, double radius, double& tHit) {
+    DVec3 f = r.org - c;
+    double a = dot(r.dir, r.dir);
+    double bp = -dot(f, r.dir);
+    DVec3 l = f + r.dir * (bp / a);
+    double r2 = radius * radius;
+    double disc = r2 - dot(l, l);
+    if (disc < 0.0) return false;
+    double cc = dot(f, f) - r2;
+    double q = bp + std::copysign(std::sqrt(a * disc), bp);
+    double t0 = 0.0, t1 = 0.0;
+    if (q != 0.0) {
+        t0 = cc / q;
+        t1 = q / a;
+    }
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 >= r.tmin && t0 <= r.tmax) {
+        tHit = t0;
+        return true;
+    }
+    if (t1 >= r.tmin && t1 <= r.tmax) {
+        tHit = t1;
+        return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+const char* reasonName(int bit) {
+    static const char* names[kReasonCount] = {"edge_or_vertex", "grazing",       "degenerate",
+                                              "tangent",        "range_end",     "reference_off",
+                                              "terminator",     "not_rechecked", "invalid_hit",
+                                              "missed_hit",     "false_hit",     "t_outside_range"};
+    return bit >= 0 && bit < kReasonCount ? names[bit] : "unknown";
+}
+
+std::string reasonNames(uint32_t reasons) {
+    std::string s;
+    for (int b = 0; b < kReasonCount; ++b)
+        if (reasons & (1u << b)) {
+            if (!s.empty()) s += ",";
+            s += reasonName(b);
+        }
+    return s;
+}
+
+DoubleRay toDoubleRay(const Ray& r) {
+    return {toDouble(r.org), toDouble(r.dir), double(r.tmin), double(r.tmax)};
+}
+
+DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
+    : scene_(&scene), count_(scene.primitiveCount()), tol_(tol) {
+    Aabb b = scene.bounds();
+    DVec3 lo = toDouble(b.lo), hi = toDouble(b.hi);
+    sceneCentre_ = (lo + hi) * 0.5;
+    sceneRadius_ = 0.5 * length(hi - lo);
+    boundCentre_.resize(count_);
+    boundRadius_.resize(count_);
+    for (uint32_t i = 0; i < count_; ++i) {
+        if (scene.kind == PrimKind::Triangles) {
+            const Triangle& t = scene.triangles[i];
+            DVec3 v[3] = {toDouble(t.v0), toDouble(t.v1), toDouble(t.v2)};
+            DVec3 c = (v[0] + v[1] + v[2]) * (1.0 / 3.0);
+            double r = 0.0;
+            for (const DVec3& p : v) r = std::max(r, length(p - c));
+            boundCentre_[i] = c;
+            boundRadius_[i] = r * (1.0 + 1e-12);
+        } else {
+            boundCentre_[i] = toDouble(scene.spheres[i].center);
+            boundRadius_[i] = double(scene.spheres[i].radius);
+        }
+    }
+}
+
+bool DoubleTracer::hit(uint32_t prim, const DoubleRay& r, double& t) const {
+    if (prim >= count_) return false;
+    if (scene_->kind == PrimKind::Triangles) {
+        const Triangle& tri = scene_->triangles[prim];
+        return rayTriangle(r, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2), t);
+    }
+    const Sphere& s = scene_->spheres[prim];
+    return raySphere(r, toDouble(s.center), double(s.radius), t);
+}
+
+Hit DoubleTracer::closest(const DoubleRay& r) const {
+    double bestT = INFINITY;
+    int32_t best = -1;
+    for (uint32_t i = 0; i < count_; ++i) {
+        double t;
+        if (hit(i, r, t) && t < bestT) {
+            bestT = t;
+            best = int32_t(i);
+        }
+    }
+    return {best >= 0 ? float(bestT) : INFINITY, best};
+}
+
+std::vector<std::pair<double, uint32_t>> DoubleTracer::allHits(const DoubleRay& r) const {
+    std::vector<std::pair<double, uint32_t>> out;
+    for (uint32_t i = 0; i < count_; ++i) {
+        double t;
+        if (hit(i, r, t)) out.push_back({t, i});
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+double DoubleTracer::clipFar(const DoubleRay& r) const {
+    // Nothing lies beyond the scene's bounding sphere: clip an infinite ray there so the
+    // distance computations below work on a finite segment.
+    double dl = length(r.dir);
+    double far = (length(r.org - sceneCentre_) + sceneRadius_ + tol_.distance) / dl;
+    return std::max(r.tmin, std::min(r.tmax, far));
+}
+
+uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
+    const Triangle& tri = scene_->triangles[prim];
+    DVec3 v[3] = {toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2)};
+    const double tol = tol_.distance;
+    DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
+    double edgeDist = INFINITY;
+    for (int i = 0; i < 3; ++i)
+        edgeDist = std::min(edgeDist, std::sqrt(segmentSegmentDist2(p, q, v[i], v[(i + 1) % 3])));
+    double endDist = pointTriangleDist(p, v[0], v[1], v[2]);
+    if (std::isfinite(r.tmax) && r.tmax <= tFar)
+        endDist = std::min(endDist, pointTriangleDist(q, v[0], v[1], v[2]));
+    // Distance from the segment to the closed triangle: 0 when it crosses, else attained at an
+    // end of the segment or on the triangle's boundary.
+    DoubleRay seg = r;
+    seg.tmax = tFar;
+    double t;
+    double dist = rayTriangle(seg, v[0], v[1], v[2], t) ? 0.0 : std::min(edgeDist, endDist);
+    if (dist > tol) return 0;  // far from this triangle: nothing here can flip
+
+    uint32_t reasons = 0;
+    if (edgeDist <= tol) reasons |= kEdgeOrVertex;
+    if (endDist <= tol) reasons |= kRangeEnd;
+    DVec3 n = cross(v[1] - v[0], v[2] - v[0]);
+    double nl = length(n);
+    double maxEdge = std::max({length(v[1] - v[0]), length(v[2] - v[1]), length(v[0] - v[2])});
+    // Smallest altitude = twice the area over the longest edge.
+    if (!(nl > tol * maxEdge)) reasons |= kDegenerate;
+    double cosine = nl > 0.0 ? std::fabs(dot(n, r.dir)) / (nl * length(r.dir)) : 0.0;
+    if (cosine <= tol_.grazingCos) reasons |= kGrazing;
+    return reasons;
+}
+
+uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
+    const Sphere& s = scene_->spheres[prim];
+    DVec3 c = toDouble(s.center);
+    double radius = double(s.radius);
+    const double tol = tol_.distance;
+    uint32_t reasons = 0;
+    DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
+    if (std::fabs(pointSegmentDist(c, p, q) - radius) <= tol) reasons |= kTangent;
+    bool endNear = std::fabs(length(p - c) - radius) <= tol;
+    if (std::isfinite(r.tmax) && r.tmax <= tFar)
+        endNear = endNear || std::fabs(length(q - c) - radius) <= tol;
+    if (endNear) reasons |= kRangeEnd;
+    return reasons;
+}
+
+uint32_t DoubleTracer::touchiness(uint32_t prim, const DoubleRay& r) const {
+    if (prim >= count_) return 0;
+    double tFar = clipFar(r);
+    return scene_->kind == PrimKind::Triangles ? triangleTouchiness(prim, r, tFar)
+                                               : sphereTouchiness(prim, r, tFar);
+}
+
+double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
+    if (prim >= count_) return INFINITY;
+    if (scene_->kind == PrimKind::Triangles) {
+        const Triangle& t = scene_->triangles[prim];
+        return pointTriangleDist(p, toDouble(t.v0), toDouble(t.v1), toDouble(t.v2));
+    }
+    const Sphere& s = scene_->spheres[prim];
+    return std::fabs(length(p - toDouble(s.center)) - double(s.radius));
+}
+
+int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
+    int32_t best = -1;
+    dist = INFINITY;
+    for (uint32_t i = 0; i < count_; ++i) {
+        // The bounding sphere bounds the distance from below: skip what cannot be nearer.
+        double lower = length(p - boundCentre_[i]) - boundRadius_[i];
+        if (lower > dist) continue;
+        double d = distanceTo(i, p);
+        if (d < dist) {
+            dist = d;
+            best = int32_t(i);
+        }
+    }
+    return best;
+}
+
+uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {
+    double tFar = clipFar(r);
+    DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
+    uint32_t reasons = 0;
+    for (uint32_t i = 0; i < count_; ++i) {
+        if (pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol_.distance) continue;
+        reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar)
+                                                       : sphereTouchiness(i, r, tFar);
+    }
+    return reasons;
+}
+
+}  // namespace oct

@@ -1,0 +1,94 @@
+// The double-precision "truth" of the per-ray recheck: every primitive tested against the ray,
+// brute force, in double, sharing no code with our traversal or our float intersection
+// routines. Besides hit and distance it says how touchy a ray/primitive configuration is: a
+// ray that passes within the edge tolerance of a triangle's boundary, grazes its plane, meets
+// a degenerate triangle, is tangent to a sphere or ends on the primitive is one whose answer
+// two correct float tracers may legitimately disagree on (docs/VALIDATION.md, the per-pixel
+// policy).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/geometry/ray.h"
+#include "core/geometry/vec3t.h"
+#include "core/scene/scene.h"
+
+namespace oct {
+
+// Why a mismatch is ambiguous rather than wrong (a bit set; 0 = no reason).
+enum AmbiguityReason : uint32_t {
+    kEdgeOrVertex = 1u << 0,   // the ray passes within the edge tolerance of a triangle's edge
+    kGrazing = 1u << 1,        // |cos(ray, normal)| <= grazing threshold, ray on the triangle
+    kDegenerate = 1u << 2,     // triangle's smallest altitude <= edge tolerance
+    kTangent = 1u << 3,        // the ray is within the edge tolerance of a sphere's silhouette
+    kRangeEnd = 1u << 4,       // the primitive lies within tolerance of the segment's ends
+    kReferenceOff = 1u << 5,   // the double truth agrees with ours; the reference differs
+    kTerminator = 1u << 6,     // only one tracer cast a shadow ray (surface edge-on to light)
+    kNotRechecked = 1u << 7,   // over the recheck budget: counted as wrong, never ambiguous
+    kInvalidHit = 1u << 8,     // ours is malformed (hit_check.h, HitClassifier::malformed): wrong
+    kMissedHit = 1u << 9,      // wrong: the truth hits a primitive before ours, nothing touchy
+    kFalseHit = 1u << 10,      // wrong: our primitive is not at our t, nothing touchy
+    kOutsideRange = 1u << 11,  // wrong: a hit whose t lies outside the ray's [tmin, tmax]
+};
+constexpr int kReasonCount = 12;
+const char* reasonName(int bit);            // "edge_or_vertex", "grazing", ...
+std::string reasonNames(uint32_t reasons);  // comma-separated, "" for none
+
+struct DoubleRay {
+    DVec3 org, dir;
+    double tmin, tmax;  // tmax may be +inf
+};
+
+DoubleRay toDoubleRay(const Ray& r);
+
+// Absolute tolerances, in world units (the policy scales them by the scene's extent).
+struct TouchTolerance {
+    double distance = 0.0;    // |dt| and edge / silhouette distance
+    double grazingCos = 0.0;  // |cos| at or below this is a grazing ray
+};
+
+class DoubleTracer {
+public:
+    DoubleTracer(const Scene& scene, TouchTolerance tol);
+
+    // Closest hit over all primitives (ties: lower id), with t in [tmin, tmax].
+    Hit closest(const DoubleRay& r) const;
+    // Every primitive hit with t in [tmin, tmax], as (t, id), ascending t.
+    std::vector<std::pair<double, uint32_t>> allHits(const DoubleRay& r) const;
+    // The per-primitive queries below take ids from the tracer under test, which may be
+    // corrupt: an id >= primitiveCount() is never indexed (no hit, no touchiness, +inf away).
+    // Hit test of one primitive; t is the hit distance when it returns true.
+    bool hit(uint32_t prim, const DoubleRay& r, double& t) const;
+    // Why the answer for this primitive could flip under a perturbation of the ray by the
+    // tolerance (AmbiguityReason bits; 0 = the configuration is clean).
+    uint32_t touchiness(uint32_t prim, const DoubleRay& r) const;
+    // Distance from a point to the primitive's surface (the closed triangle; the sphere).
+    double distanceTo(uint32_t prim, DVec3 p) const;
+    // The primitive whose surface is nearest to p (lowest id among equals); `dist` receives the
+    // distance. -1 for a scene without primitives.
+    int32_t nearestTo(DVec3 p, double& dist) const;
+    // Union of touchiness over every primitive near the ray's segment.
+    uint32_t touchinessNear(const DoubleRay& r) const;
+
+    const TouchTolerance& tolerance() const { return tol_; }
+    uint32_t primitiveCount() const { return count_; }
+
+private:
+    double clipFar(const DoubleRay& r) const;  // tmax clipped to beyond the scene's bounds
+    uint32_t triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const;
+    uint32_t sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const;
+
+    const Scene* scene_;
+    uint32_t count_;
+    TouchTolerance tol_;
+    DVec3 sceneCentre_;
+    double sceneRadius_;
+    std::vector<DVec3> boundCentre_;  // per primitive: a bounding sphere for the near filter
+    std::vector<double> boundRadius_;
+};
+
+}  // namespace oct

@@ -1,0 +1,282 @@
+#include "validation/rays/ray_manifest.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "core/io/output_file.h"
+
+#ifndef OCT_VERSION
+#define OCT_VERSION "unknown"
+#endif
+
+namespace oct {
+namespace {
+
+using nlohmann::json;
+
+json vec(Vec3 v) { return json::array({v.x, v.y, v.z}); }
+json optVec(const std::optional<Vec3>& v) { return v ? vec(*v) : json(nullptr); }
+
+[[noreturn]] void bad(const std::string& path, const std::string& why) {
+    throw IoError("ray manifest '" + path + "': " + why +
+                  " (write it again with octrace rays, or remove it to certify the rays as one "
+                  "set)");
+}
+
+const json& field(const json& j, const char* key, const std::string& path) {
+    if (!j.is_object() || !j.contains(key)) bad(path, std::string("no field '") + key + "'");
+    return j.at(key);
+}
+
+uint64_t count(const json& j, const char* key, const std::string& path) {
+    const json& v = field(j, key, path);
+    if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<int64_t>() >= 0))
+        bad(path, std::string("'") + key + "' is not a non-negative integer");
+    return v.get<uint64_t>();
+}
+
+std::string text(const json& j, const char* key, const std::string& path) {
+    const json& v = field(j, key, path);
+    if (!v.is_string()) bad(path, std::string("'") + key + "' is not a string");
+    return v.get<std::string>();
+}
+
+std::optional<Vec3> optionalVec(const json& j, const char* key, const std::string& path) {
+    const json& v = field(j, key, path);
+    if (v.is_null()) return std::nullopt;
+    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
+        !v[2].is_number())
+        bad(path, std::string("camera '") + key + "' is not null or three numbers");
+    return Vec3{v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+}
+
+// The file's rows of one set, as bytes.
+bool sameRows(const std::vector<float>& file, const RaySetRange& f, const RaySet& rebuilt,
+              const RaySetRange& r) {
+    if (f.count != r.count) return false;
+    return f.count == 0 || std::memcmp(&file[8 * f.begin], &rebuilt.rays[8 * r.begin],
+                                       size_t(8 * f.count) * sizeof(float)) == 0;
+}
+
+}  // namespace
+
+const char* octraceVersion() { return OCT_VERSION; }
+
+std::string manifestPathFor(const std::string& raysPath) {
+    const std::string ext = ".npy";
+    if (raysPath.size() > ext.size() &&
+        raysPath.compare(raysPath.size() - ext.size(), ext.size(), ext) == 0)
+        return raysPath.substr(0, raysPath.size() - ext.size()) + ".json";
+    return raysPath + ".json";
+}
+
+RayManifest describeRaySet(const Scene& scene, const RaySetSpec& spec, const RaySet& rays) {
+    RayManifest m;
+    m.octrace = octraceVersion();
+    m.scene = scene.name;
+    m.kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
+    m.primitives = scene.primitiveCount();
+    // The radius a point cloud file was loaded with, so that certify loads the same spheres. A
+    // generated grid cloud's radius is fixed by its spec (and the loader refuses one): none.
+    if (scene.kind == PrimKind::Spheres && !scene.spheres.empty() && scene.gridDepth < 0)
+        m.radius = scene.spheres[0].radius;
+    m.seed = spec.seed;
+    m.count = spec.count;
+    m.rows = rays.count();
+    m.checksum = hex64(fnv1a64(rays.rays.data(), rays.rays.size() * sizeof(float)));
+    m.sets = rays.sets;
+    if (rays.frame) {
+        m.camera = spec.camera;
+        m.frame = rays.frame;
+    }
+    return m;
+}
+
+json toJson(const RayManifest& m) {
+    json sets = json::array();
+    for (const RaySetRange& r : m.sets)
+        sets.push_back({{"name", r.name}, {"begin", r.begin}, {"count", r.count}});
+    json j = {{"format", "octrace-rays"},
+              {"version", 1},
+              {"octrace", m.octrace},
+              {"scene",
+               {{"name", m.scene},
+                {"kind", m.kind},
+                {"primitives", m.primitives},
+                {"radius", m.radius ? json(*m.radius) : json(nullptr)}}},
+              {"seed", m.seed},
+              {"count", m.count},
+              {"rows", m.rows},
+              {"fnv1a64", m.checksum},
+              {"sets", sets}};
+    if (m.camera) {
+        const CameraOptions& c = *m.camera;
+        json cam = {{"width", c.width},        {"height", c.height},         {"fov", c.fovDegrees},
+                    {"eye", optVec(c.eye)},    {"target", optVec(c.target)}, {"up", optVec(c.up)},
+                    {"light", optVec(c.light)}};
+        if (m.frame) {
+            const FrameParams& f = *m.frame;
+            cam["frame"] = {{"eye", vec(f.camera.eye)},      {"forward", vec(f.camera.forward)},
+                            {"right", vec(f.camera.right)},  {"up", vec(f.camera.up)},
+                            {"light", vec(f.shading.light)}, {"shadow_bias", f.shading.shadowBias}};
+        }
+        j["camera"] = cam;
+    }
+    return j;
+}
+
+RayManifest manifestFromJson(const json& j, const std::string& path) {
+    if (text(j, "format", path) != "octrace-rays") bad(path, "'format' is not \"octrace-rays\"");
+    if (count(j, "version", path) != 1) bad(path, "'version' is not 1");
+    RayManifest m;
+    m.octrace =
+        j.contains("octrace") && j["octrace"].is_string() ? j["octrace"].get<std::string>() : "";
+    const json& s = field(j, "scene", path);
+    m.scene = text(s, "name", path);
+    m.kind = text(s, "kind", path);
+    m.primitives = uint32_t(count(s, "primitives", path));
+    if (s.contains("radius") && !s["radius"].is_null()) {
+        if (!s["radius"].is_number()) bad(path, "'radius' is not a number");
+        m.radius = s["radius"].get<float>();
+    }
+    m.seed = count(j, "seed", path);
+    m.count = count(j, "count", path);
+    m.rows = count(j, "rows", path);
+    m.checksum = text(j, "fnv1a64", path);
+    const json& sets = field(j, "sets", path);
+    if (!sets.is_array()) bad(path, "'sets' is not a list");
+    for (const json& r : sets)
+        m.sets.push_back({text(r, "name", path), count(r, "begin", path), count(r, "count", path)});
+    if (j.contains("camera") && !j["camera"].is_null()) {
+        const json& c = j["camera"];
+        CameraOptions o;
+        o.width = int(count(c, "width", path));
+        o.height = int(count(c, "height", path));
+        if (!field(c, "fov", path).is_number()) bad(path, "camera 'fov' is not a number");
+        o.fovDegrees = c["fov"].get<float>();
+        o.eye = optionalVec(c, "eye", path);
+        o.target = optionalVec(c, "target", path);
+        o.up = optionalVec(c, "up", path);
+        o.light = optionalVec(c, "light", path);
+        m.camera = o;
+    }
+    return m;
+}
+
+RayManifest readManifest(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw IoError("cannot open ray manifest '" + path + "'");
+    std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    json j = json::parse(bytes, nullptr, false);
+    if (j.is_discarded()) bad(path, "not JSON");
+    return manifestFromJson(j, path);
+}
+
+RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
+                      const std::optional<RayManifest>& manifest, const std::string& raysPath,
+                      std::vector<std::string>& notes) {
+    RaySet out;
+    out.rays = std::move(rays);
+    const uint64_t n = out.count();
+    if (!manifest) {
+        out.sets.push_back({"all", 0, n});
+        return out;
+    }
+    const RayManifest& m = *manifest;
+    const std::string mp = manifestPathFor(raysPath);
+    // The sets must cover the rows in order, without gap or overlap.
+    uint64_t next = 0;
+    for (const RaySetRange& r : m.sets) {
+        if (r.begin != next || r.count > n - std::min(n, r.begin))
+            throw std::runtime_error("ray manifest '" + mp + "': set '" + r.name + "' rows " +
+                                     std::to_string(r.begin) + "+" + std::to_string(r.count) +
+                                     " do not follow row " + std::to_string(next) + " within the " +
+                                     std::to_string(n) + " rows of '" + raysPath + "'");
+        next = r.begin + r.count;
+    }
+    if (next != n || m.rows != n)
+        throw std::runtime_error("ray manifest '" + mp + "' describes " + std::to_string(m.rows) +
+                                 " rows in sets covering " + std::to_string(next) + ", but '" +
+                                 raysPath + "' has " + std::to_string(n) +
+                                 " (write the rays and their manifest again with octrace rays)");
+    const std::string sum = hex64(fnv1a64(out.rays.data(), out.rays.size() * sizeof(float)));
+    if (sum != m.checksum)
+        throw std::runtime_error("'" + raysPath + "' is not the file its manifest '" + mp +
+                                 "' describes (FNV-1a " + sum + ", manifest " + m.checksum +
+                                 "): the rays were changed; write them again with octrace rays");
+    out.sets = m.sets;
+
+    // Rebuild the standard sets (all but shadow, which needs the reference's camera hits) and
+    // compare: this proves the rows are the sets they claim to be, on this scene.
+    RaySetSpec spec;
+    spec.seed = m.seed;
+    spec.count = m.count;
+    for (const RaySetRange& r : m.sets) {
+        const RaySetDesc* k = findRaySet(r.name);
+        if (!k) {
+            notes.push_back("set '" + r.name + "' is not a standard set: rows only");
+            continue;
+        }
+        spec.sets.push_back(k);  // shadow is kept for the seeded sets' split, then skipped
+    }
+    bool needCamera = false;
+    for (const RaySetDesc* k : spec.sets) needCamera = needCamera || !k->seeded;
+    if (needCamera) {
+        if (!m.camera)
+            throw std::runtime_error("ray manifest '" + mp +
+                                     "' has a camera or shadow set but no 'camera'");
+        spec.camera = *m.camera;
+        out.frame = makeFrame(scene.bounds(), spec.camera);
+    }
+    RaySetSpec rebuildSpec = spec;
+    rebuildSpec.sets.clear();
+    for (const RaySetDesc* k : spec.sets)
+        if (!k->needsReference) rebuildSpec.sets.push_back(k);
+    // The seeded shares follow the full list; rebuild each seeded set with its own share.
+    RaySet rebuilt;
+    {
+        RaySetSpec one = spec;
+        for (const RaySetDesc* k : rebuildSpec.sets) {
+            one.sets = {k};
+            one.count = k->seeded ? seededShare(spec, *k) : 0;
+            RaySet part = makeRaySet(scene, one);
+            const uint64_t offset = rebuilt.count();
+            for (RayTarget t : part.targets) {
+                t.row += offset;
+                rebuilt.targets.push_back(t);
+            }
+            rebuilt.rays.insert(rebuilt.rays.end(), part.rays.begin(), part.rays.end());
+            rebuilt.sets.push_back({k->name, offset, part.count()});
+        }
+    }
+    for (const RaySetRange& f : out.sets) {
+        const RaySetDesc* k = findRaySet(f.name);
+        if (k && k->needsReference) {
+            notes.push_back("set '" + f.name +
+                            "' depends on the reference's camera hits: taken as given");
+            continue;
+        }
+        const RaySetRange* r = rebuilt.find(f.name);
+        if (!r) continue;
+        if (!sameRows(out.rays, f, rebuilt, *r))
+            throw std::runtime_error("'" + raysPath + "' rows " + std::to_string(f.begin) + ".." +
+                                     std::to_string(f.begin + f.count) + " (set '" + f.name +
+                                     "') are not the set its manifest describes on '" + scene.name +
+                                     "': certify with the scene the rays were made for, or "
+                                     "write them again with octrace rays");
+        for (RayTarget t : rebuilt.targets)
+            if (t.row >= r->begin && t.row < r->begin + r->count) {
+                t.row = t.row - r->begin + f.begin;
+                out.targets.push_back(t);
+            }
+    }
+    std::sort(out.targets.begin(), out.targets.end(),
+              [](const RayTarget& a, const RayTarget& b) { return a.row < b.row; });
+    return out;
+}
+
+}  // namespace oct

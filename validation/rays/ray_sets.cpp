@@ -1,0 +1,540 @@
+#include "validation/rays/ray_sets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <stdexcept>
+
+#include "core/geometry/vec3t.h"
+#include "core/octree/built_scene.h"
+#include "core/octree/octree.h"
+#include "core/scene/mesh_topology.h"
+
+namespace oct {
+namespace {
+
+// Radius, relative to the scene's extent, of the disc a sealed target must be covered on.
+constexpr double kSealMargin = 1e-5;
+constexpr double kEdgeMinCos = 0.1, kVertexMinCos = 0.05;
+constexpr int kAttemptsPerRay = 200;
+
+uint64_t splitmix64(uint64_t x) {
+    x += 0x9E3779B97F4A7C15ull;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+    return x ^ (x >> 31);
+}
+
+}  // namespace
+
+struct RaySetRng {
+    std::mt19937_64 engine;
+    double u01() { return double(engine() >> 11) * 0x1p-53; }  // [0, 1)
+    double range(double lo, double hi) { return lo + (hi - lo) * u01(); }
+    uint64_t below(uint64_t n) { return engine() % n; }
+};
+
+struct RaySetContext {
+    const Scene& scene;
+    const CameraOptions& camera;  // the camera and shadow sets
+    const TraceBatch& reference;  // the shadow set's camera hits
+    Aabb bounds, root;
+    Vec3 centre;
+    float radius;
+    double margin;  // kSealMargin x extent
+    std::optional<MeshTopology> topo;
+    std::vector<uint32_t> interiorEdges, fanVertices;
+    std::vector<std::vector<uint32_t>> links;  // per fan vertex
+};
+
+namespace {
+
+using Rng = RaySetRng;
+using Context = RaySetContext;
+
+Rng streamFor(uint64_t seed, const RaySetDesc& k) {
+    return Rng{std::mt19937_64(splitmix64(seed + 0x9E3779B97F4A7C15ull * (uint64_t(k.id) + 1)))};
+}
+
+// Uniform on the sphere by rejection from the cube: no sin/cos, so the same bits everywhere.
+Vec3 unitVector(Rng& rng) {
+    for (;;) {
+        double x = 2.0 * rng.u01() - 1.0, y = 2.0 * rng.u01() - 1.0, z = 2.0 * rng.u01() - 1.0;
+        double r2 = x * x + y * y + z * z;
+        if (r2 > 1e-6 && r2 <= 1.0) {
+            double s = 1.0 / std::sqrt(r2);
+            return {float(x * s), float(y * s), float(z * s)};
+        }
+    }
+}
+
+Vec3 pointIn(Rng& rng, const Aabb& b) {
+    return {float(rng.range(b.lo.x, b.hi.x)), float(rng.range(b.lo.y, b.hi.y)),
+            float(rng.range(b.lo.z, b.hi.z))};
+}
+
+// Boundary coordinates of the nodes of depth `depth` along one axis: the same float midpoints
+// childBox() takes, so the planes are exactly the node faces of the canonical octree.
+std::vector<float> boundaryPlanes(float lo, float hi, int depth) {
+    std::vector<float> cuts = {lo, hi};
+    for (int d = 0; d < depth; ++d) {
+        std::vector<float> next;
+        for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+            next.push_back(cuts[i]);
+            next.push_back((cuts[i] + cuts[i + 1]) * 0.5f);
+        }
+        next.push_back(cuts.back());
+        cuts = std::move(next);
+    }
+    return cuts;
+}
+
+// Double precision (DVec3) is for the acceptance tests, never for the stored floats.
+DVec3 triangleNormal(const Triangle& t) {
+    return cross(toDouble(t.v1) - toDouble(t.v0), toDouble(t.v2) - toDouble(t.v0));
+}
+
+double absCos(DVec3 n, DVec3 d) { return std::fabs(dot(n, d)) / (length(n) * length(d)); }
+
+// Points seen along a direction: 2-D coordinates in a plane perpendicular to it.
+struct Projection {
+    DVec3 u, w;
+    explicit Projection(DVec3 d) {
+        DVec3 a = std::fabs(d.x) < 0.6 ? DVec3{1, 0, 0} : DVec3{0, 1, 0};
+        u = cross(d, a);
+        u = u * (1.0 / length(u));
+        w = cross(d, u);
+        w = w * (1.0 / length(w));
+    }
+    void operator()(DVec3 p, double& x, double& y) const {
+        x = dot(p, u);
+        y = dot(p, w);
+    }
+};
+
+struct P2 {
+    double x, y;
+};
+double side(P2 a, P2 b, P2 p) { return (b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y); }
+double segmentDistance(P2 p, P2 a, P2 b) {
+    double ux = b.x - a.x, uy = b.y - a.y, l2 = ux * ux + uy * uy;
+    double s = l2 > 0 ? ((p.x - a.x) * ux + (p.y - a.y) * uy) / l2 : 0.0;
+    s = s < 0 ? 0 : (s > 1 ? 1 : s);
+    double dx = p.x - (a.x + s * ux), dy = p.y - (a.y + s * uy);
+    return std::sqrt(dx * dx + dy * dy);
+}
+
+// Winding number of a closed polygon around p (Sunday's crossing rule: signs only).
+int windingNumber(const std::vector<P2>& poly, P2 p) {
+    int w = 0;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        P2 a = poly[i], b = poly[(i + 1) % poly.size()];
+        if (a.y <= p.y) {
+            if (b.y > p.y && side(a, b, p) > 0) ++w;
+        } else if (b.y <= p.y && side(a, b, p) < 0) {
+            --w;
+        }
+    }
+    return w;
+}
+
+void push(RaySet& out, Vec3 o, Vec3 d, float tmin, float tmax) {
+    const float r[8] = {o.x, o.y, o.z, d.x, d.y, d.z, tmin, tmax};
+    out.rays.insert(out.rays.end(), r, r + 8);
+}
+
+void around(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    for (uint64_t i = 0; i < n; ++i) {
+        Vec3 o = c.centre + unitVector(rng) * (1.5f * c.radius);
+        Vec3 d = pointIn(rng, c.bounds) - o;
+        if (!(length(d) > 0.0f)) d = c.centre - o;
+        push(out, o, normalize(d), 0.0f, INFINITY);
+    }
+}
+
+void inside(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    for (uint64_t i = 0; i < n; ++i) {
+        Vec3 o = pointIn(rng, c.root);
+        Vec3 d = unitVector(rng);
+        float tmax = rng.below(4) == 0 ? float(rng.u01() * c.radius) : INFINITY;
+        push(out, o, d, 0.0f, tmax);
+    }
+}
+
+void axis(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    std::vector<float> planes[3][4];  // [axis][depth]
+    for (int a = 0; a < 3; ++a)
+        for (int d = 1; d <= 3; ++d) planes[a][d] = boundaryPlanes(c.root.lo[a], c.root.hi[a], d);
+    for (uint64_t i = 0; i < n; ++i) {
+        Vec3 o = pointIn(rng, c.root);
+        int ax = int(rng.below(3));
+        Vec3 d = {0.0f, 0.0f, 0.0f};
+        d[ax] = rng.below(2) ? 1.0f : -1.0f;
+        if (i % 2 == 1) {  // into a node face: move one other coordinate onto a split plane
+            int other = (ax + 1 + int(rng.below(2))) % 3;
+            const std::vector<float>& p = planes[other][1 + rng.below(3)];
+            o[other] = p[rng.below(p.size())];
+        }
+        push(out, o, d, 0.0f, INFINITY);
+    }
+}
+
+// The ray from `from` towards the float point p, as stored: origin, unit direction, and the
+// ray parameter nearest to p (double, on the stored float ray).
+void aimAt(Vec3 p, Vec3 from, Vec3& o, Vec3& dir, double& t) {
+    o = from;
+    dir = normalize(p - o);
+    DVec3 dd = toDouble(dir);
+    t = dot(toDouble(p) - toDouble(o), dd) / dot(dd, dd);
+}
+
+// Is the edge target sealed for this ray: seen along it, the two triangles lie on both sides of
+// the edge and cover a disc of radius `margin` around p, each at |cos| >= kEdgeMinCos.
+bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
+    const DVec3 d = toDouble(dir);
+    const Projection proj(d);
+    auto at = [&](Vec3 v) {
+        P2 q;
+        proj(toDouble(v), q.x, q.y);
+        return q;
+    };
+    const MeshTopology& t = *c.topo;
+    P2 a = at(t.vertices[e.a]), b = at(t.vertices[e.b]), q = at(p);
+    P2 opp[2];
+    for (int k = 0; k < 2; ++k) {
+        const Triangle& tri = c.scene.triangles[e.tri[k]];
+        if (absCos(triangleNormal(tri), d) < kEdgeMinCos) return false;
+        const auto& cs = t.corners[e.tri[k]];
+        uint32_t o =
+            cs[0] != e.a && cs[0] != e.b ? cs[0] : (cs[1] != e.a && cs[1] != e.b ? cs[1] : cs[2]);
+        opp[k] = at(t.vertices[o]);
+    }
+    double s0 = side(a, b, opp[0]), s1 = side(a, b, opp[1]);
+    if (!((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0))) return false;  // a fold seen edge-on
+    for (int k = 0; k < 2; ++k)
+        if (segmentDistance(q, a, opp[k]) < c.margin || segmentDistance(q, opp[k], b) < c.margin)
+            return false;
+    return true;
+}
+
+bool vertexSealed(const Context& c, uint32_t v, const std::vector<uint32_t>& link, Vec3 dir) {
+    const DVec3 d = toDouble(dir);
+    const MeshTopology& t = *c.topo;
+    for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k)
+        if (absCos(triangleNormal(c.scene.triangles[t.vertexTriangles[k]]), d) < kVertexMinCos)
+            return false;
+    const Projection proj(d);
+    P2 q;
+    proj(toDouble(t.vertices[v]), q.x, q.y);
+    std::vector<P2> poly(link.size());
+    for (size_t i = 0; i < link.size(); ++i)
+        proj(toDouble(t.vertices[link[i]]), poly[i].x, poly[i].y);
+    for (size_t i = 0; i < poly.size(); ++i)
+        if (segmentDistance(q, poly[i], poly[(i + 1) % poly.size()]) < c.margin) return false;
+    return windingNumber(poly, q) != 0;
+}
+
+double longestSide(const Triangle& t) {
+    return std::max({length(toDouble(t.v1) - toDouble(t.v0)),
+                     length(toDouble(t.v2) - toDouble(t.v1)),
+                     length(toDouble(t.v0) - toDouble(t.v2))});
+}
+
+[[noreturn]] void notPlaced(const Context& c, const char* set, uint64_t placed, uint64_t n) {
+    throw std::invalid_argument("ray set '" + std::string(set) + "': placed only " +
+                                std::to_string(placed) + " of " + std::to_string(n) +
+                                " sealed rays on '" + c.scene.name + "' in " +
+                                std::to_string(kAttemptsPerRay) + " tries each");
+}
+
+void prepareTopology(Context& c) {
+    if (c.topo) return;
+    c.topo = meshTopology(c.scene);
+    const MeshTopology& t = *c.topo;
+    for (size_t i = 0; i < t.edges.size(); ++i)
+        if (t.edges[i].triangles == 2) c.interiorEdges.push_back(uint32_t(i));
+    for (uint32_t v = 0; v < t.vertices.size(); ++v) {
+        std::vector<uint32_t> link = vertexLink(t, v);
+        if (link.empty()) continue;
+        c.fanVertices.push_back(v);
+        c.links.push_back(std::move(link));
+    }
+}
+
+void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    prepareTopology(c);
+    if (n > 0 && c.interiorEdges.empty())
+        throw std::invalid_argument("ray set 'edges': '" + c.scene.name +
+                                    "' has no edge shared by exactly two triangles");
+    const MeshTopology& t = *c.topo;
+    for (uint64_t i = 0; i < n; ++i) {
+        bool placed = false;
+        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+            const MeshEdge& e = t.edges[c.interiorEdges[rng.below(c.interiorEdges.size())]];
+            const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
+            const Vec3 p = va + (vb - va) * float(rng.range(0.2, 0.8));  // float, as a hit point
+            const Triangle &ta = c.scene.triangles[e.tri[0]], &tb = c.scene.triangles[e.tri[1]];
+            DVec3 front = triangleNormal(ta) * (1.0 / length(triangleNormal(ta))) +
+                          triangleNormal(tb) * (1.0 / length(triangleNormal(tb)));
+            Vec3 d = unitVector(rng);
+            if (dot(toDouble(d), front) > 0) d = -d;  // coming from the front side
+            const double r = std::max(longestSide(ta), longestSide(tb)) * rng.range(1.0, 3.0);
+            Vec3 o, dir;
+            double tt;
+            aimAt(p, p - d * float(r), o, dir, tt);
+            if (!edgeSealed(c, e, p, dir)) continue;
+            out.targets.push_back({out.count(), tt, e.a, e.b, va, vb});
+            push(out, o, dir, 0.0f, INFINITY);
+            placed = true;
+        }
+        if (!placed) notPlaced(c, "edges", i, n);
+    }
+}
+
+void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    prepareTopology(c);
+    if (n > 0 && c.fanVertices.empty())
+        throw std::invalid_argument("ray set 'vertices': '" + c.scene.name +
+                                    "' has no vertex whose triangles close a fan around it");
+    const MeshTopology& t = *c.topo;
+    for (uint64_t i = 0; i < n; ++i) {
+        bool placed = false;
+        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+            const size_t pick = rng.below(c.fanVertices.size());
+            const uint32_t v = c.fanVertices[pick];
+            DVec3 front = {0, 0, 0};
+            double r = 0.0;
+            for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k) {
+                const Triangle& tri = c.scene.triangles[t.vertexTriangles[k]];
+                front = front + triangleNormal(tri);
+                r = std::max(r, longestSide(tri));
+            }
+            Vec3 d = unitVector(rng);
+            if (dot(toDouble(d), front) > 0) d = -d;
+            r *= rng.range(1.0, 3.0);
+            const Vec3 p = t.vertices[v];
+            Vec3 o, dir;
+            double tt;
+            aimAt(p, p - d * float(r), o, dir, tt);
+            if (!vertexSealed(c, v, c.links[pick], dir)) continue;
+            out.targets.push_back({out.count(), tt, v, v, p, p});
+            push(out, o, dir, 0.0f, INFINITY);
+            placed = true;
+        }
+        if (!placed) notPlaced(c, "vertices", i, n);
+    }
+}
+
+// A point inside triangle tri (uniform, computed in float as a tracer would).
+Vec3 pointOn(Rng& rng, const Triangle& tri) {
+    double u = rng.u01(), v = rng.u01();
+    if (u + v > 1.0) {
+        u = 1.0 - u;
+        v = 1.0 - v;
+    }
+    return tri.v0 + (tri.v1 - tri.v0) * float(u) + (tri.v2 - tri.v0) * float(v);
+}
+
+void grazing(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    static const double kCos[5] = {3e-2, 1e-3, 1e-4, 1e-5, 1e-6};
+    const std::vector<Triangle>& tris = c.scene.triangles;
+    for (uint64_t i = 0; i < n; ++i) {
+        const Triangle& tri = tris[rng.below(tris.size())];
+        const Vec3 p = pointOn(rng, tri);
+        DVec3 nrm = triangleNormal(tri);
+        nrm = nrm * (1.0 / length(nrm));
+        DVec3 g;
+        do {  // a direction in the plane
+            DVec3 r = toDouble(unitVector(rng));
+            g = r - nrm * dot(r, nrm);
+        } while (!(length(g) > 1e-3));
+        g = g * (1.0 / length(g));
+        // Three draws, one statement each: the operands of one expression may be evaluated in
+        // any order, so a product of draws gave compiler-chosen rays. This is the order GCC 12
+        // took, so the bytes (and the pinned checksum) are unchanged.
+        const double cosine = kCos[rng.below(5)];
+        const double scale = rng.range(0.5, 1.0);
+        const double sign = rng.below(2) ? 1.0 : -1.0;
+        double s = cosine * scale * sign;
+        DVec3 dd = g * std::sqrt(1.0 - s * s) + nrm * s;
+        const Vec3 d = {float(dd.x), float(dd.y), float(dd.z)};
+        const float r = float(longestSide(tri) * rng.range(1.0, 2.0));
+        push(out, p - d * r, normalize(d), 0.0f, INFINITY);
+    }
+}
+
+void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    const std::vector<Triangle>& tris = c.scene.triangles;
+    for (uint64_t i = 0; i < n; ++i) {
+        const Triangle& tri = tris[rng.below(tris.size())];
+        const Vec3 p = pointOn(rng, tri);
+        const DVec3 nrm = triangleNormal(tri);
+        Vec3 d;
+        do d = unitVector(rng);
+        while (absCos(nrm, toDouble(d)) < 0.2);
+        const float r = float(longestSide(tri) * rng.range(0.5, 1.5));
+        if (i % 4 == 0) {  // starts on the surface
+            push(out, p, d, 0.0f, INFINITY);
+            continue;
+        }
+        const Vec3 o = p - d * r;
+        const Vec3 dir = normalize(p - o);
+        // The ray parameter where the stored float ray meets the triangle's plane.
+        const double th = dot(nrm, toDouble(tri.v0) - toDouble(o)) / dot(nrm, toDouble(dir));
+        const float tf = float(th);
+        if (i % 4 == 1) push(out, o, dir, 0.0f, tf);      // ends exactly at the surface
+        if (i % 4 == 2) push(out, o, dir, tf, INFINITY);  // starts exactly there
+        if (i % 4 == 3) push(out, o, dir, 0.0f, std::nextafter(tf, 0.0f));  // ends one ulp short
+    }
+}
+
+void cameraRays(const FrameParams& f, RaySet& out) {
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x) {
+            Ray r = primaryRay(f.camera, x, y, f.width, f.height);
+            push(out, r.org, r.dir, r.tmin, r.tmax);
+        }
+}
+
+void shadowRays(const Scene& scene, const FrameParams& f, const TraceBatch& reference,
+                RaySet& out) {
+    RaySet cam;
+    cameraRays(f, cam);
+    const uint64_t n = cam.count();
+    std::vector<float> t(n);
+    std::vector<int32_t> prim(n);
+    reference({cam.rays.data(), t.data(), prim.data(), n});
+    const PrimitivesView prims = primitivesView(scene);
+    for (uint64_t i = 0; i < n; ++i) {
+        // A malformed reference hit is skipped, never indexed.
+        if (prim[i] < 0 || uint32_t(prim[i]) >= prims.count || !std::isfinite(t[i])) continue;
+        const ShadowQuery q = shadowQuery(f.shading, prims, cam.ray(i), {t[i], prim[i]});
+        if (q.cast) push(out, q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax);
+    }
+}
+
+// The frame of the camera sets, made once for both.
+const FrameParams& frameOf(const Context& c, RaySet& out) {
+    if (!out.frame) out.frame = makeFrame(c.scene.bounds(), c.camera);
+    return *out.frame;
+}
+
+void camera(Context& c, Rng&, uint64_t, RaySet& out) { cameraRays(frameOf(c, out), out); }
+
+void shadow(Context& c, Rng&, uint64_t, RaySet& out) {
+    shadowRays(c.scene, frameOf(c, out), c.reference, out);
+}
+
+}  // namespace
+
+const std::vector<RaySetDesc>& standardRaySets() {
+    // id, name, seeded, needs triangles, needs a reference, adversarial, generator
+    static const std::vector<RaySetDesc> table = {
+        {0, "camera", false, false, false, false, camera},
+        {1, "shadow", false, false, true, false, shadow},
+        {2, "around", true, false, false, false, around},
+        {3, "inside", true, false, false, false, inside},
+        {4, "axis", true, false, false, false, axis},
+        {5, "edges", true, true, false, true, edges},
+        {6, "vertices", true, true, false, true, vertices},
+        {7, "grazing", true, true, false, true, grazing},
+        {8, "tmin-tmax", true, true, false, true, tminTmax},
+    };
+    return table;
+}
+
+const RaySetDesc* findRaySet(const std::string& name) {
+    for (const RaySetDesc& k : standardRaySets())
+        if (name == k.name) return &k;
+    return nullptr;
+}
+
+std::string raySetNames() {
+    std::string s;
+    for (const RaySetDesc& k : standardRaySets())
+        s += (s.empty() ? "" : ", ") + std::string(k.name);
+    return s;
+}
+
+const RaySetRange* RaySet::find(const std::string& name) const {
+    for (const RaySetRange& r : sets)
+        if (r.name == name) return &r;
+    return nullptr;
+}
+
+uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k) {
+    uint64_t seeded = 0, index = 0;
+    bool found = false;
+    for (const RaySetDesc* s : spec.sets) {
+        if (!s->seeded) continue;
+        if (s == &k) {
+            index = seeded;
+            found = true;
+        }
+        ++seeded;
+    }
+    if (!found || seeded == 0) return 0;
+    return spec.count / seeded + (index < spec.count % seeded ? 1 : 0);
+}
+
+RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& reference) {
+    for (size_t i = 0; i < spec.sets.size(); ++i) {
+        const RaySetDesc* k = spec.sets[i];
+        if (!k) throw std::invalid_argument("ray set list holds no set (a name findRaySet missed)");
+        for (size_t j = 0; j < i; ++j)
+            if (k == spec.sets[j])
+                throw std::invalid_argument("ray set '" + std::string(k->name) +
+                                            "' is named twice");
+        if (k->needsTriangles && scene.kind != PrimKind::Triangles)
+            throw std::invalid_argument("ray set '" + std::string(k->name) +
+                                        "' needs a triangle mesh; '" + scene.name +
+                                        "' is a point cloud");
+        if (k->needsReference && !reference)
+            throw std::invalid_argument("ray set '" + std::string(k->name) +
+                                        "' needs a reference tracer for the camera hits");
+    }
+    Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {},
+              {},    {},          {}};
+    c.centre = c.bounds.center();
+    c.radius = 0.5f * length(c.bounds.extent());
+    if (!(c.radius > 0.0f)) c.radius = 0.5f * length(c.root.extent());
+    c.margin = kSealMargin * sceneExtent(scene);
+
+    RaySet out;
+    for (const RaySetDesc* k : spec.sets) {
+        const uint64_t begin = out.count();
+        const uint64_t n = seededShare(spec, *k);
+        Rng rng = streamFor(spec.seed, *k);
+        out.rays.reserve(out.rays.size() + 8 * n);
+        k->generate(c, rng, n, out);
+        out.sets.push_back({k->name, begin, out.count() - begin});
+    }
+    return out;
+}
+
+RaySet makeValidationRays(const Scene& scene, uint64_t n, uint64_t seed) {
+    RaySetSpec spec;
+    spec.sets = {findRaySet("around"), findRaySet("inside"), findRaySet("axis")};
+    spec.count = n;
+    spec.seed = seed;
+    return makeRaySet(scene, spec);
+}
+
+uint64_t fnv1a64(const void* data, size_t bytes) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < bytes; ++i) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+std::string hex64(uint64_t v) {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)v);
+    return buf;
+}
+
+}  // namespace oct

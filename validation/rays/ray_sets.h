@@ -1,0 +1,130 @@
+// The standard ray sets of `octrace rays` (docs/CERTIFY.md) and of `octrace validate --rays`: the
+// configurations image rays rarely meet and tracers get wrong. Each set is named; a ray file is
+// its sets' rows one after another (RaySetRange), in the trace format of docs/TRACE_FORMAT.md.
+//
+//  camera    the render's pinhole rays, row-major (y * W + x), as makeFrame/primaryRay make them;
+//  shadow    for each camera ray a reference tracer hits, the kernel's own shadow ray from that
+//            hit (shadowQuery, core/render/kernel.h) when the surface faces the light: a
+//            finite segment towards the light;
+//  around    origins on a sphere of 1.5 x the scene's bounding radius, aimed at points uniform
+//            in the scene's box;
+//  inside    origins uniform in the octree's root cube, directions uniform on the sphere; one
+//            in four has a finite tmax, uniform in [0, bounding radius];
+//  axis      origins uniform in the root cube, directions +-x, +-y, +-z; every other one has
+//            one other coordinate moved onto a node boundary plane of depth 1 to 3 (the same
+//            float midpoints as childBox), so it runs inside a face shared by two nodes;
+//  edges     aimed at a point of an edge shared by exactly two triangles (a parameter in
+//            [0.2, 0.8] along it, the point computed in float as a tracer computes a hit
+//            point), from the front side of the two triangles (the side their winding's normal
+//            points to), at a distance of 1 to 3 times the longest side of the two triangles;
+//  vertices  aimed at a vertex whose triangles close a fan around it, the same way;
+//  grazing   through a point inside a triangle at |cos(ray, normal)| between 5e-7 and 3e-2;
+//  tmin-tmax through a point inside a triangle at |cos| >= 0.2, in four variants by row: the
+//            ray starts at the point (tmin 0); tmax is exactly the distance to the triangle's
+//            plane; tmin is exactly that distance; tmax is one float below it.
+//
+// An edges or vertices ray is *sealed*: seen along the ray, the two triangles of its edge (the
+// fan of its vertex) cover a disc of radius 1e-5 x the scene's extent around the target point,
+// and every one of them meets the ray at |cos| >= 0.1 (edges) or 0.05 (vertices). A tracer
+// without cracks must therefore hit at or before the target (certify's leak check, certify.h),
+// whatever the rest of the mesh is; directions that are not sealed are drawn again.
+//
+// Same seed, same bytes, on every machine: each seeded set draws from its own std::mt19937_64
+// stream, seeded with splitmix64(seed + 0x9E3779B97F4A7C15 x (set id + 1)), using its raw output
+// only (no std::*_distribution, whose output the standard leaves to the implementation), and
+// no function whose rounding the platform chooses: directions by rejection from the cube,
+// then +, -, x, / and sqrt (IEEE), under -ffp-contract=off. The camera set goes through
+// makeFrame, which calls the platform's tanf/atanf/sinf; the shadow set depends on the
+// reference tracer's camera hits. The seeded sets' count N is split as evenly as possible over
+// them in the order given (the first ones get the remainder).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/render/frame.h"
+#include "core/render/kernel.h"
+#include "core/scene/scene.h"
+
+namespace oct {
+
+struct RaySet;
+struct RaySetContext;  // what the generators share: the scene, its boxes, topology (ray_sets.cpp)
+struct RaySetRng;      // one set's random stream (ray_sets.cpp)
+
+// One standard set: a row of the table standardRaySets() returns. Adding a set is its generator
+// in ray_sets.cpp and one row there, with a new id.
+struct RaySetDesc {
+    uint8_t id;           // seeds the set's random stream: never renumber
+    const char* name;     // "camera", ..., "tmin-tmax"
+    bool seeded;          // drawn from the seed; false: made from the camera (camera, shadow)
+    bool needsTriangles;  // edges, vertices, grazing, tmin-tmax
+    bool needsReference;  // starts at a reference tracer's camera hits (shadow): not rebuilt
+    // Built from edge cases on purpose (edges, vertices, grazing, tmin-tmax): nearly every ray is
+    // touchy, so ambiguous answers are expected there and do not count against the rate.
+    bool adversarial;
+    // Appends the set's rows (`n`: the seeded sets' share; the camera sets make their own count).
+    void (*generate)(RaySetContext& c, RaySetRng& rng, uint64_t n, RaySet& out);
+};
+
+const std::vector<RaySetDesc>& standardRaySets();       // in `--set all` order
+const RaySetDesc* findRaySet(const std::string& name);  // null for another name
+std::string raySetNames();                              // "camera, shadow, ..., tmin-tmax"
+
+// Rows [begin, begin + count) of a ray file belong to the set `name`.
+struct RaySetRange {
+    std::string name;
+    uint64_t begin = 0, count = 0;
+};
+
+// The target of an edges or vertices ray, for the leak check.
+struct RayTarget {
+    uint64_t row = 0;
+    double t = 0.0;         // the ray parameter nearest to the target point (double, float ray)
+    uint32_t a = 0, b = 0;  // welded vertex ids (mesh_topology.h): the edge a < b; a vertex a == b
+    Vec3 pa{}, pb{};        // their positions
+    bool vertex() const { return a == b; }
+};
+
+struct RaySet {
+    std::vector<float> rays;           // N x 8: ox oy oz dx dy dz tmin tmax
+    std::vector<RaySetRange> sets;     // contiguous, in file order, covering every row
+    std::vector<RayTarget> targets;    // edges and vertices rows, ascending row
+    std::optional<FrameParams> frame;  // when there is a camera or shadow set
+    uint64_t count() const { return rays.size() / 8; }
+    Ray ray(uint64_t i) const {
+        const float* r = &rays[8 * i];
+        return {{r[0], r[1], r[2]}, {r[3], r[4], r[5]}, r[6], r[7]};
+    }
+    const RaySetRange* find(const std::string& name) const;
+};
+
+struct RaySetSpec {
+    std::vector<const RaySetDesc*> sets;  // rows of standardRaySets(), in file order, each once
+    uint64_t count = 30000;               // rays over the seeded sets together
+    uint64_t seed = 1;
+    CameraOptions camera;  // camera and shadow sets
+};
+
+// The rows of one seeded set's share, as the spec splits count.
+uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k);
+
+// Closest hits of a batch by a reference tracer: the shadow set needs the camera hits (the CLI
+// passes Embree from the backend list). May be empty when there is no shadow set.
+using TraceBatch = std::function<void(RayBatchView)>;
+
+// Throws std::invalid_argument for a null or repeated set, a triangle-only set on a point cloud,
+// a shadow set without a reference, or a mesh offering no target (no shared edge, no closed fan).
+RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& reference = {});
+
+// validate's seeded sets: around, inside, axis, N split evenly.
+RaySet makeValidationRays(const Scene& scene, uint64_t n, uint64_t seed);
+
+// 64-bit FNV-1a of bytes (the rays' float32 little-endian bytes: R.npy's data section).
+uint64_t fnv1a64(const void* data, size_t bytes);
+std::string hex64(uint64_t v);  // 16 lowercase hex digits
+
+}  // namespace oct

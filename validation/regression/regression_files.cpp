@@ -1,0 +1,63 @@
+#include "validation/regression/regression_files.h"
+
+#include <stdexcept>
+
+#include "validation/report/report_util.h"
+
+namespace oct {
+
+using nlohmann::json;
+using report_detail::fmt;
+
+namespace {
+
+// A regression file's outcome: `key` is its JSON field, null when it was not run.
+template <class Report>
+CheckResult resultOf(const std::optional<Report>& r, const char* key, const char* failure) {
+    CheckResult c;
+    c.ran = r.has_value();
+    c.json = {{key, r ? toJson(*r) : json(nullptr)}};
+    if (!r) return c;
+    c.pass = r->passes();
+    c.summary = humanSummary(*r);
+    if (!c.pass) c.failureText = fmt(failure, (unsigned long long)r->failures());
+    return c;
+}
+
+}  // namespace
+
+std::vector<CheckResult> RegressionReport::results() const {
+    return {resultOf(golden, "golden", ", %llu golden image comparisons off"),
+            resultOf(cost, "cost_baseline", ", %llu cost baselines exceeded or missing")};
+}
+
+std::string RegressionReport::failureText() const {
+    std::string s;
+    for (const CheckResult& c : results()) s += c.failureText;
+    return s;
+}
+
+RegressionReport runRegressionFiles(const std::string& goldenDir, const std::string& costFile,
+                                    bool update, const std::string& root) {
+    if (update && goldenDir.empty() && costFile.empty())
+        throw std::runtime_error("--update needs --golden DIR or --cost-baseline FILE to rewrite");
+    RegressionReport r;
+    if (!goldenDir.empty())
+        r.golden = update ? updateGolden(goldenDir, root) : checkGolden(goldenDir, root);
+    if (!costFile.empty())
+        r.cost = update ? updateCostBaselines(costFile, root) : checkCostBaselines(costFile, root);
+    return r;
+}
+
+void addToJson(json& report, const RegressionReport& r) {
+    for (const CheckResult& c : r.results()) report.update(c.json);
+    report["pass"] = report.value("pass", true) && r.passes();
+}
+
+std::string humanSummary(const RegressionReport& r) {
+    std::string s;
+    for (const CheckResult& c : r.results()) s += c.summary;
+    return s;
+}
+
+}  // namespace oct

@@ -1,0 +1,201 @@
+// The per-ray check's report (validate and certify share it) and `octrace certify`'s report, in
+// the two forms with the same content: JSON (docs/CERTIFY.md lists the fields) and text.
+#include "validation/report/report.h"
+#include "validation/report/report_util.h"
+
+namespace oct {
+
+using nlohmann::json;
+using namespace report_detail;
+
+namespace {
+
+// What the tracer should have answered: the double truth when rechecked, else the reference.
+Hit expected(const Finding& f) { return f.rechecked ? f.truth : f.reference; }
+
+json leakJson(const LeakFinding& f) {
+    json j = {{"index", f.index},      {"set", f.set},          {"target_t", num(f.target.t)},
+              {"got", hitJson(f.got)}, {"ray", rayJson(f.ray)}, {"rechecked", f.rechecked}};
+    if (f.rechecked) j["truth"] = hitJson(f.truth);
+    auto pos = [](Vec3 v) { return json::array({v.x, v.y, v.z}); };
+    if (f.target.vertex()) {
+        j["vertex"] = f.target.a;
+        j["position"] = pos(f.target.pa);
+    } else {
+        j["edge"] = json::array({f.target.a, f.target.b});
+        j["positions"] = json::array({pos(f.target.pa), pos(f.target.pb)});
+    }
+    return j;
+}
+
+std::string leakPlace(const RayTarget& t) {
+    return t.vertex() ? fmt("vertex %u", t.a) : fmt("edge %u-%u", t.a, t.b);
+}
+
+const char* verdict(const SetCertification& s) { return s.clean() ? "pass" : "FAIL"; }
+
+}  // namespace
+
+json toJson(const RayCertification& r, double maxRate) {
+    json j = toJson(r.all);
+    j["leak_checked"] = r.leakChecked;
+    j["leaks"] = r.leaks;
+    j["unsealed"] = r.unsealed;
+    j["pass"] = r.passes(maxRate);
+    j["strict"] = toJson(r.strict);  // the pooled sets the ambiguous rate is judged on
+    json bySet = json::object(), order = json::array();
+    for (const SetCertification& s : r.sets) {
+        json k = toJson(s.counts);
+        k["begin"] = s.range.begin;
+        k["rows"] = s.range.count;
+        k["adversarial"] = s.adversarial;
+        k["clean"] = s.clean();
+        k["leak_checked"] = s.leakChecked;
+        k["leaks"] = s.leaks;
+        k["unsealed"] = s.unsealed;
+        json w = json::array(), l = json::array();
+        for (const Finding& f : s.worst) {
+            json fj = findingJson(f, false);
+            fj["expected"] = hitJson(expected(f));
+            w.push_back(fj);
+        }
+        for (const LeakFinding& f : s.leakList) l.push_back(leakJson(f));
+        k["worst"] = w;
+        k["leak_list"] = l;
+        bySet[s.range.name] = k;
+        order.push_back(s.range.name);
+    }
+    j["sets"] = order;
+    j["by_set"] = bySet;
+    return j;
+}
+
+std::string humanRaySets(const RayCertification& r, double maxRate) {
+    std::string s =
+        "  set           rows     agree    ties ambiguous   wrong  leaks  amb. rate  max|dt|/ext  "
+        "verdict\n";
+    auto line = [&](const std::string& name, const ClassCounts& c, uint64_t leaks, uint64_t checked,
+                    const char* v, bool adversarial) {
+        return fmt("  %-10s %8llu %9llu %7llu %9llu %7llu %6s %10.3g%s %12.3g  %s\n", name.c_str(),
+                   (unsigned long long)c.compared, (unsigned long long)c.agree,
+                   (unsigned long long)c.ties, (unsigned long long)c.ambiguous,
+                   (unsigned long long)c.wrong, checked ? std::to_string(leaks).c_str() : "-",
+                   c.ambiguousRate(), adversarial ? "*" : " ", c.maxRelativeDt, v);
+    };
+    bool anyAdversarial = false;
+    for (const SetCertification& k : r.sets) {
+        s += line(k.range.name, k.counts, k.leaks, k.leakChecked, verdict(k), k.adversarial);
+        anyAdversarial = anyAdversarial || k.adversarial;
+    }
+    if (r.sets.size() > 1)
+        s += line("all", r.all, r.leaks, r.leakChecked, r.passes(maxRate) ? "pass" : "FAIL", false);
+    s += fmt("  ambiguous rate over the%s sets: %.3g (%llu of %llu; limit %.3g): %s\n",
+             anyAdversarial ? " non-adversarial" : "", r.strict.ambiguousRate(),
+             (unsigned long long)r.strict.ambiguous, (unsigned long long)r.strict.compared, maxRate,
+             r.strict.ambiguousRate() <= maxRate ? "pass" : "FAIL");
+    if (anyAdversarial)
+        s += "  * adversarial set: built of touchy rays, ambiguous answers expected there\n";
+    for (const SetCertification& k : r.sets) {
+        std::string reasons = reasonsText(k.counts);
+        if (!reasons.empty()) s += "  " + k.range.name + " by reason:" + reasons + "\n";
+        if (k.unsealed)
+            s +=
+                fmt("  %s: %llu leak candidates the truth does not hit at the target either "
+                    "(not leaks)\n",
+                    k.range.name.c_str(), (unsigned long long)k.unsealed);
+    }
+    int shown = 0;
+    for (const Finding& f : r.worst) {
+        if (f.cls != HitClass::Ambiguous && f.cls != HitClass::Wrong) continue;
+        if (shown++ == 12) break;
+        if (shown == 1)
+            s += "  first wrong, then ambiguous rays (row set: class [reasons] got | expected "
+                 "(truth when rechecked) | embree)\n";
+        s += fmt("    %8llu %-9s %-9s %-18s %s | %s | %s\n", (unsigned long long)f.index,
+                 f.set.c_str(), hitClassName(f.cls), ("[" + reasonNames(f.reasons) + "]").c_str(),
+                 hitText(f.ours).c_str(), hitText(expected(f)).c_str(),
+                 hitText(f.reference).c_str());
+    }
+    shown = 0;
+    for (const SetCertification& k : r.sets)
+        for (const LeakFinding& f : k.leakList) {
+            if (shown++ == 12) break;
+            if (shown == 1) s += "  leaks (row set: edge or vertex: target t | got | truth)\n";
+            s += fmt("    %8llu %-9s %-16s t=%.9g | %s | %s\n", (unsigned long long)f.index,
+                     f.set.c_str(), leakPlace(f.target).c_str(), f.target.t, hitText(f.got).c_str(),
+                     f.rechecked ? hitText(f.truth).c_str() : "not rechecked");
+        }
+    return s;
+}
+
+json toJson(const CertifyReport& r) {
+    json topo = nullptr;
+    if (r.topology)
+        topo = {{"closed", r.topology->closed},
+                {"vertices", r.topology->vertices},
+                {"edges", r.topology->edges},
+                {"boundary_edges", r.topology->boundaryEdges},
+                {"non_manifold_edges", r.topology->nonManifoldEdges}};
+    return {{"pass", r.passes()},
+            {"wrong", r.result.all.wrong},
+            {"ambiguous", r.result.all.ambiguous},
+            {"leaks", r.result.leaks},
+            {"scene",
+             {{"name", r.scene},
+              {"kind", r.kind == PrimKind::Triangles ? "triangles" : "spheres"},
+              {"primitives", r.primitives},
+              {"extent", r.extent},
+              {"topology", topo}}},
+            {"rays", r.rays},
+            {"hits", r.hits},
+            {"prim_ids", r.primIds},
+            {"manifest", r.manifest},
+            {"notes", r.notes},
+            {"policy",
+             {{"t_tolerance", r.policy.tTolerance},
+              {"edge_tolerance", r.policy.edgeTolerance},
+              {"grazing_cos", r.policy.grazingCos},
+              {"max_ambiguous_rate", r.policy.maxAmbiguousRate},
+              {"max_rechecks", r.policy.maxRechecks}}},
+            {"reference",
+             {{"tracer", "embree (RTC_SCENE_FLAG_ROBUST)"}, {"seconds", r.referenceSeconds}}},
+            {"result", toJson(r.result, r.policy.maxAmbiguousRate)},
+            {"seconds", {{"check", r.checkSeconds}, {"total", r.seconds}}}};
+}
+
+std::string humanSummary(const CertifyReport& r) {
+    std::string s = fmt("certify %s: %u %s, extent %.6g", r.scene.c_str(), r.primitives,
+                        r.kind == PrimKind::Triangles ? "triangles" : "spheres", r.extent);
+    if (r.topology)
+        s += fmt("; closed: %s (%llu boundary edges, %llu non-manifold edges)",
+                 r.topology->closed ? "yes" : "no", (unsigned long long)r.topology->boundaryEdges,
+                 (unsigned long long)r.topology->nonManifoldEdges);
+    s += "\n";
+    const uint64_t rows = r.result.all.compared;
+    s += fmt("rays     %s: %llu rows in %zu set(s)%s; hits %s%s\n", r.rays.c_str(),
+             (unsigned long long)rows, r.result.sets.size(),
+             r.manifest ? " (manifest checked)" : " (no manifest: one set)", r.hits.c_str(),
+             r.primIds ? "" : " (distances only: a hit's primitive is inferred)");
+    s += fmt(
+        "policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: |cos| "
+        "<= %.3g; pass: no wrong ray and no leak in any set, ambiguous rate of the non-adversarial "
+        "sets <= %.3g\n",
+        r.policy.tTolerance, r.policy.edgeTolerance, r.policy.grazingCos,
+        r.policy.maxAmbiguousRate);
+    s +=
+        fmt("reference embree (robust) %.2f s; check %.2f s\n", r.referenceSeconds, r.checkSeconds);
+    if (r.topology && !r.topology->closed && r.result.leakChecked)
+        s += "leaks    the mesh is open: checked at edges shared by two triangles and closed "
+             "fans only, where the target is sealed whatever the rest of the mesh is\n";
+    for (const std::string& n : r.notes) s += "note     " + n + "\n";
+    s += humanRaySets(r.result, r.policy.maxAmbiguousRate);
+    s +=
+        fmt("\n%s: %llu wrong, %llu ambiguous, %llu leaks (of %llu rays checked for leaks) over "
+            "%llu rays (%.2f s)\n",
+            r.passes() ? "PASS" : "FAIL", (unsigned long long)r.result.all.wrong,
+            (unsigned long long)r.result.all.ambiguous, (unsigned long long)r.result.leaks,
+            (unsigned long long)r.result.leakChecked, (unsigned long long)rows, r.seconds);
+    return s;
+}
+
+}  // namespace oct
