@@ -138,9 +138,7 @@ void runValidate(const ValidateCliOptions& o) {
         // The structural check reads the layout's host arrays through its own view.
         NodeLookupFn lookup;
         if (l->usesOctree)
-            built.back()->visit([&lookup](const auto& view) {
-                lookup = [view](uint64_t key) { return lookupNode(view, key); };
-            });
+            lookup = [b = built.back().get()](uint64_t key) { return b->lookupNode(key); };
         for (const BackendDesc* b : backendList) {
             std::shared_ptr<SceneTracer> t = b->prepare(*built.back());
             prepared.push_back(t);

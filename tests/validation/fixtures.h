@@ -36,12 +36,9 @@ inline CpuTracers cpuTracers(const oct::Scene& scene, const std::vector<std::str
         const oct::BuiltScene* bs = t.built.back().get();
         if (bs->tree) t.canonical = bs->tree.get();
         oct::NodeLookupFn lookup;  // the structural check, for layouts with an octree
-        if (l->usesOctree)
-            bs->visit([&lookup](const auto& view) {
-                lookup = [view](uint64_t key) { return oct::lookupNode(view, key); };
-            });
+        if (l->usesOctree) lookup = [bs](uint64_t key) { return bs->lookupNode(key); };
         t.tracers.push_back(
-            {l->name, "cpu",
+            {l->name, oct::hostBackend().name,
              [bs](const oct::FrameParams& p, oct::Film& f) {
                  oct::renderWith(oct::hostBackend(), *bs, p, f);
              },
