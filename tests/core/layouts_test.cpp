@@ -21,13 +21,14 @@
 #include "core/octree/morton.h"
 #include "core/scene/grid_cloud.h"
 #include "tests/core/brute_sat.h"
+#include "tests/seeded.h"
 
 namespace oct {
 namespace {
 
 glm::dvec3 d3(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
 
-double u01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1p-53; }
+using octtest::u01;
 
 // A triangle soup in a non-cubic box: triangles of sizes from 1e-3 to 0.5 of the box, some
 // axis-parallel, some slivers.

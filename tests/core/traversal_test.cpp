@@ -20,11 +20,12 @@
 #include "core/octree/built_scene.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
+#include "tests/seeded.h"
 
 namespace oct {
 namespace {
 
-double u01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1p-53; }
+using octtest::u01;
 float sym(std::mt19937_64& rng) { return float(2.0 * u01(rng) - 1.0); }
 
 Vec3 randomUnit(std::mt19937_64& rng) {

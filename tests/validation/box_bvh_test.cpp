@@ -10,10 +10,12 @@
 #include <set>
 #include <vector>
 
+#include "tests/seeded.h"
+
 namespace oct {
 namespace {
 
-double u01(std::mt19937_64& rng) { return double(rng() >> 11) * 0x1p-53; }
+using octtest::u01;
 
 std::vector<DBox> randomBoxes(size_t n, double centre, std::mt19937_64& rng) {
     std::vector<DBox> boxes(n);

@@ -144,8 +144,49 @@ DoubleRay toDoubleRay(const Ray& r) {
     return {toDouble(r.org), toDouble(r.dir), double(r.tmin), double(r.tmax)};
 }
 
+namespace {
+
+// Each primitive's box in double (exact: the float coordinates), for the BVH.
+std::vector<DBox> primitiveBoxes(const Scene& scene) {
+    std::vector<DBox> boxes(scene.primitiveCount());
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        DBox& b = boxes[i];
+        if (scene.kind == PrimKind::Triangles) {
+            const Triangle& t = scene.triangles[i];
+            const Vec3 v[3] = {t.v0, t.v1, t.v2};
+            for (int a = 0; a < 3; ++a) {
+                b.lo[a] = std::min({double(v[0][a]), double(v[1][a]), double(v[2][a])});
+                b.hi[a] = std::max({double(v[0][a]), double(v[1][a]), double(v[2][a])});
+            }
+        } else {
+            const Sphere& sp = scene.spheres[i];
+            for (int a = 0; a < 3; ++a) {
+                b.lo[a] = double(sp.center[a]) - double(sp.radius);
+                b.hi[a] = double(sp.center[a]) + double(sp.radius);
+            }
+        }
+    }
+    return boxes;
+}
+
+// The BVH's growth: the touch distance (touchiness concerns primitives that close to a
+// segment), and at least a relative 1e-12 of the coordinates' magnitude, so that a hit the
+// double test accepts by rounding at an edge is inside its primitive's grown box.
+double bvhPad(const Scene& scene, double touchDistance) {
+    const Aabb b = scene.bounds();
+    double m = 0.0;
+    for (int a = 0; a < 3; ++a)
+        m = std::max({m, std::fabs(double(b.lo[a])), std::fabs(double(b.hi[a]))});
+    return std::max(touchDistance, 1e-12 * m);
+}
+
+}  // namespace
+
 DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
-    : scene_(&scene), count_(scene.primitiveCount()), tol_(tol) {
+    : scene_(&scene),
+      count_(scene.primitiveCount()),
+      tol_(tol),
+      bvh_(primitiveBoxes(scene), bvhPad(scene, tol.distance)) {
     Aabb b = scene.bounds();
     DVec3 lo = toDouble(b.lo), hi = toDouble(b.hi);
     sceneCentre_ = (lo + hi) * 0.5;
@@ -178,7 +219,7 @@ bool DoubleTracer::hit(uint32_t prim, const DoubleRay& r, double& t) const {
     return raySphere(r, toDouble(s.center), double(s.radius), t);
 }
 
-Hit DoubleTracer::closest(const DoubleRay& r) const {
+Hit DoubleTracer::closestBrute(const DoubleRay& r) const {
     double bestT = INFINITY;
     int32_t best = -1;
     for (uint32_t i = 0; i < count_; ++i) {
@@ -191,7 +232,7 @@ Hit DoubleTracer::closest(const DoubleRay& r) const {
     return {best >= 0 ? float(bestT) : INFINITY, best};
 }
 
-std::vector<std::pair<double, uint32_t>> DoubleTracer::allHits(const DoubleRay& r) const {
+std::vector<std::pair<double, uint32_t>> DoubleTracer::allHitsBrute(const DoubleRay& r) const {
     std::vector<std::pair<double, uint32_t>> out;
     for (uint32_t i = 0; i < count_; ++i) {
         double t;
@@ -273,7 +314,7 @@ double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
     return std::fabs(length(p - toDouble(s.center)) - double(s.radius));
 }
 
-int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
+int32_t DoubleTracer::nearestToBrute(DVec3 p, double& dist) const {
     int32_t best = -1;
     dist = INFINITY;
     for (uint32_t i = 0; i < count_; ++i) {
@@ -289,7 +330,7 @@ int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
     return best;
 }
 
-uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {
+uint32_t DoubleTracer::touchinessNearBrute(const DoubleRay& r) const {
     double tFar = clipFar(r);
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     uint32_t reasons = 0;
@@ -298,6 +339,62 @@ uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {
         reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar)
                                                        : sphereTouchiness(i, r, tFar);
     }
+    return reasons;
+}
+
+// --- the accelerated queries: the BVH proposes, the per-primitive tests above decide ----------
+
+Hit DoubleTracer::closest(const DoubleRay& r) const {
+    double bestT = INFINITY;
+    int32_t best = -1;
+    const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+    bvh_.segment(o, d, r.tmin, r.tmax, [&](uint32_t i) {
+        double t;
+        if (hit(i, r, t) && (t < bestT || (t == bestT && int32_t(i) < best))) {
+            bestT = t;
+            best = int32_t(i);
+        }
+        return std::min(bestT,
+                        r.tmax);  // boxes entered beyond the best hit cannot hold a nearer one
+    });
+    return {best >= 0 ? float(bestT) : INFINITY, best};
+}
+
+std::vector<std::pair<double, uint32_t>> DoubleTracer::allHits(const DoubleRay& r) const {
+    std::vector<std::pair<double, uint32_t>> out;
+    const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+    bvh_.segment(o, d, r.tmin, r.tmax, [&](uint32_t i) {
+        double t;
+        if (hit(i, r, t)) out.push_back({t, i});
+        return r.tmax;
+    });
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
+    int32_t best = -1;
+    dist = INFINITY;
+    const double q[3] = {p.x, p.y, p.z};
+    bvh_.nearest(q, dist, [&](uint32_t i) {
+        const double d = distanceTo(i, p);
+        if (d < dist || (d == dist && int32_t(i) < best)) best = int32_t(i);
+        return d;
+    });
+    return best;
+}
+
+uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {
+    const double tFar = clipFar(r);
+    const DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
+    uint32_t reasons = 0;
+    const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+    bvh_.segment(o, d, r.tmin, tFar, [&](uint32_t i) {
+        if (!(pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol_.distance))
+            reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar)
+                                                           : sphereTouchiness(i, r, tFar);
+        return tFar;
+    });
     return reasons;
 }
 

@@ -1,10 +1,11 @@
-// The double-precision "truth" of the per-ray recheck: every primitive tested against the ray,
-// brute force, in double, sharing no code with our traversal or our float intersection
-// routines. Besides hit and distance it says how touchy a ray/primitive configuration is: a
-// ray that passes within the edge tolerance of a triangle's boundary, grazes its plane, meets
-// a degenerate triangle, is tangent to a sphere or ends on the primitive is one whose answer
-// two correct float tracers may legitimately disagree on (docs/VALIDATION.md, the per-pixel
-// policy).
+// The double-precision "truth" of the per-ray recheck: the primitives tested against the ray in
+// double, sharing no code with our traversal or our float intersection routines. A BVH in
+// double (box_bvh.h) hands each query the primitives it may concern; the per-primitive tests
+// decide, exactly as the brute force over every primitive (kept as the tests' oracle) would.
+// Besides hit and distance it says how touchy a ray/primitive configuration is: a ray that passes
+// within the edge tolerance of a triangle's boundary, grazes its plane, meets a degenerate
+// triangle, is tangent to a sphere or ends on the primitive is one whose answer two correct float
+// tracers may legitimately disagree on (docs/VALIDATION.md, the per-pixel policy).
 #pragma once
 
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "core/geometry/ray.h"
 #include "core/geometry/vec3t.h"
 #include "core/scene/scene.h"
+#include "validation/policy/box_bvh.h"
 
 namespace oct {
 
@@ -74,6 +76,13 @@ public:
     // Union of touchiness over every primitive near the ray's segment.
     uint32_t touchinessNear(const DoubleRay& r) const;
 
+    // The same four queries over every primitive, without the BVH: the oracle the tests hold
+    // the accelerated ones to (same answers, bit for bit).
+    Hit closestBrute(const DoubleRay& r) const;
+    std::vector<std::pair<double, uint32_t>> allHitsBrute(const DoubleRay& r) const;
+    int32_t nearestToBrute(DVec3 p, double& dist) const;
+    uint32_t touchinessNearBrute(const DoubleRay& r) const;
+
     const TouchTolerance& tolerance() const { return tol_; }
     uint32_t primitiveCount() const { return count_; }
 
@@ -89,6 +98,7 @@ private:
     double sceneRadius_;
     std::vector<DVec3> boundCentre_;  // per primitive: a bounding sphere for the near filter
     std::vector<double> boundRadius_;
+    BoxBvh bvh_;  // over the primitives' boxes grown by the touch distance
 };
 
 }  // namespace oct
