@@ -297,14 +297,10 @@ CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArr
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     CertifyReport rep;
-    rep.scene = scene.name;
-    rep.kind = scene.kind;
-    rep.primitives = scene.primitiveCount();
-    rep.policy = policy;
     rep.primIds = ours.primIds;
     if (scene.kind == PrimKind::Triangles) rep.topology = summarize(meshTopology(scene));
     HitClassifier classifier(scene, policy);
-    rep.extent = classifier.extent();
+    static_cast<JudgedScene&>(rep) = judgedScene(scene, classifier);
 
     auto t0 = std::chrono::steady_clock::now();
     HitArrays ref;

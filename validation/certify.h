@@ -29,6 +29,7 @@
 
 #include "core/scene/mesh_topology.h"
 #include "validation/policy/hit_validation.h"
+#include "validation/policy/judged_scene.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_sets.h"
 
@@ -87,12 +88,7 @@ struct TopologySummary {
 };
 TopologySummary summarize(const MeshTopology& t);
 
-struct CertifyReport {
-    std::string scene;
-    PrimKind kind = PrimKind::Triangles;
-    uint32_t primitives = 0;
-    double extent = 0.0;
-    ValidationPolicy policy;
+struct CertifyReport : JudgedScene {
     std::string rays, hits;  // the files, as named
     bool primIds = true;
     bool manifest = false;

@@ -43,15 +43,10 @@ bool ValidationReport::passes() const {
 ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,
                                const Octree* canonical, const ValidateOptions& o) {
     auto start = std::chrono::steady_clock::now();
-    ValidationReport rep;
-    rep.scene = scene.name;
-    rep.kind = scene.kind;
-    rep.primitives = scene.primitiveCount();
-    rep.policy = o.policy;
-    rep.seed = o.seed;
-
     HitClassifier classifier(scene, o.policy);
-    rep.extent = classifier.extent();
+    ValidationReport rep;
+    static_cast<JudgedScene&>(rep) = judgedScene(scene, classifier);
+    rep.seed = o.seed;
     CheckInputs in(scene, canonical, o, classifier);
     in.frame = makeFrame(scene.bounds(), o.camera);
     // The inside view (validate.h): eye and light at the box's centre, the light 1% of the

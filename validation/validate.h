@@ -20,6 +20,7 @@
 #include "validation/exact/layout_structure.h"
 #include "validation/exact/replication.h"
 #include "validation/policy/hit_validation.h"
+#include "validation/policy/judged_scene.h"
 
 namespace oct {
 
@@ -73,12 +74,7 @@ struct RunReport {
     }
 };
 
-struct ValidationReport {
-    std::string scene;
-    PrimKind kind = PrimKind::Triangles;
-    uint32_t primitives = 0;
-    double extent = 0.0;
-    ValidationPolicy policy;
+struct ValidationReport : JudgedScene {
     int width = 0, height = 0;
     uint64_t rayCount = 0, seed = 0;
     std::vector<RaySetRange> raySets;  // around, inside, axis

@@ -16,12 +16,8 @@ public:
     }
 
     CheckResult result(const ValidationReport& rep) const override {
+        if (!rep.replication) return notRun("replication");
         CheckResult r;
-        if (!rep.replication) {
-            r.ran = false;
-            r.json = {{"replication", nullptr}};
-            return r;
-        }
         const ReplicationReport& x = *rep.replication;
         r.pass = x.passes();
         r.json = {{"replication", toJson(x)}};

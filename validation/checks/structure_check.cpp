@@ -19,12 +19,8 @@ public:
     }
 
     CheckResult result(const RunReport& run, double) const override {
+        if (!run.structure) return notRun("structure");
         CheckResult r;
-        if (!run.structure) {
-            r.ran = false;
-            r.json = {{"structure", nullptr}};
-            return r;
-        }
         const StructureReport& st = *run.structure;
         r.pass = st.passes();
         r.json = {{"structure",

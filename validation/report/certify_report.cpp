@@ -136,36 +136,26 @@ json toJson(const CertifyReport& r) {
                 {"edges", r.topology->edges},
                 {"boundary_edges", r.topology->boundaryEdges},
                 {"non_manifold_edges", r.topology->nonManifoldEdges}};
+    json scene = sceneJson(r);
+    scene["topology"] = topo;
     return {{"pass", r.passes()},
             {"wrong", r.result.all.wrong},
             {"ambiguous", r.result.all.ambiguous},
             {"leaks", r.result.leaks},
-            {"scene",
-             {{"name", r.scene},
-              {"kind", r.kind == PrimKind::Triangles ? "triangles" : "spheres"},
-              {"primitives", r.primitives},
-              {"extent", r.extent},
-              {"topology", topo}}},
+            {"scene", scene},
             {"rays", r.rays},
             {"hits", r.hits},
             {"prim_ids", r.primIds},
             {"manifest", r.manifest},
             {"notes", r.notes},
-            {"policy",
-             {{"t_tolerance", r.policy.tTolerance},
-              {"edge_tolerance", r.policy.edgeTolerance},
-              {"grazing_cos", r.policy.grazingCos},
-              {"max_ambiguous_rate", r.policy.maxAmbiguousRate},
-              {"max_rechecks", r.policy.maxRechecks}}},
-            {"reference",
-             {{"tracer", "embree (RTC_SCENE_FLAG_ROBUST)"}, {"seconds", r.referenceSeconds}}},
+            {"policy", policyJson(r.policy)},
+            {"reference", referenceJson(r.referenceSeconds)},
             {"result", toJson(r.result, r.policy.maxAmbiguousRate)},
             {"seconds", {{"check", r.checkSeconds}, {"total", r.seconds}}}};
 }
 
 std::string humanSummary(const CertifyReport& r) {
-    std::string s = fmt("certify %s: %u %s, extent %.6g", r.scene.c_str(), r.primitives,
-                        r.kind == PrimKind::Triangles ? "triangles" : "spheres", r.extent);
+    std::string s = sceneHead("certify", r);
     if (r.topology)
         s += fmt("; closed: %s (%llu boundary edges, %llu non-manifold edges)",
                  r.topology->closed ? "yes" : "no", (unsigned long long)r.topology->boundaryEdges,
@@ -176,12 +166,9 @@ std::string humanSummary(const CertifyReport& r) {
              (unsigned long long)rows, r.result.sets.size(),
              r.manifest ? " (manifest checked)" : " (no manifest: one set)", r.hits.c_str(),
              r.primIds ? "" : " (distances only: a hit's primitive is inferred)");
-    s += fmt(
-        "policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: |cos| "
-        "<= %.3g; pass: no wrong ray and no leak in any set, ambiguous rate of the non-adversarial "
-        "sets <= %.3g\n",
-        r.policy.tTolerance, r.policy.edgeTolerance, r.policy.grazingCos,
-        r.policy.maxAmbiguousRate);
+    s += policyLine(r.policy,
+                    "no wrong ray and no leak in any set, ambiguous rate of the non-adversarial "
+                    "sets");
     s +=
         fmt("reference embree (robust) %.2f s; check %.2f s\n", r.referenceSeconds, r.checkSeconds);
     if (r.topology && !r.topology->closed && r.result.leakChecked)

@@ -110,21 +110,11 @@ json toJson(const ValidationReport& r) {
         for (const RunCheck* c : runChecks()) one.update(c->result(run, rate).json);
         runs.push_back(one);
     }
-    json j = {{"scene",
-               {{"name", r.scene},
-                {"kind", r.kind == PrimKind::Triangles ? "triangles" : "spheres"},
-                {"primitives", r.primitives},
-                {"extent", r.extent}}},
-              {"policy",
-               {{"t_tolerance", r.policy.tTolerance},
-                {"edge_tolerance", r.policy.edgeTolerance},
-                {"grazing_cos", r.policy.grazingCos},
-                {"max_ambiguous_rate", r.policy.maxAmbiguousRate},
-                {"max_rechecks", r.policy.maxRechecks}}},
+    json j = {{"scene", sceneJson(r)},
+              {"policy", policyJson(r.policy)},
               {"frame", {{"width", r.width}, {"height", r.height}}},
               {"ray_set", raySetJson(r)},
-              {"reference",
-               {{"tracer", "embree (RTC_SCENE_FLAG_ROBUST)"}, {"seconds", r.referenceSeconds}}},
+              {"reference", referenceJson(r.referenceSeconds)},
               {"runs", runs},
               {"wrong", r.wrong()},
               {"ambiguous", r.ambiguous()},
@@ -194,15 +184,10 @@ std::string humanSummary(const ReplicationReport& r) {
 std::string humanSummary(const ValidationReport& r) {
     const double rate = r.policy.maxAmbiguousRate;
     std::string s;
-    s += fmt("validate %s: %u %s, extent %.6g; %dx%d pixels, %llu rays (seed %llu: %s)\n",
-             r.scene.c_str(), r.primitives, r.kind == PrimKind::Triangles ? "triangles" : "spheres",
-             r.extent, r.width, r.height, (unsigned long long)r.rayCount,
-             (unsigned long long)r.seed, raySetText(r).c_str());
-    s +=
-        fmt("policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: "
-            "|cos| <= %.3g; pass: no wrong, ambiguous rate <= %.3g\n",
-            r.policy.tTolerance, r.policy.edgeTolerance, r.policy.grazingCos,
-            r.policy.maxAmbiguousRate);
+    s += sceneHead("validate", r) + fmt("; %dx%d pixels, %llu rays (seed %llu: %s)\n", r.width,
+                                        r.height, (unsigned long long)r.rayCount,
+                                        (unsigned long long)r.seed, raySetText(r).c_str());
+    s += policyLine(r.policy, "no wrong, ambiguous rate");
     s += fmt("reference embree (robust) %.2f s\n", r.referenceSeconds);
     for (const RunReport& run : r.runs) {
         s += fmt("\n%s on %s: %s  (render %.2f s, rays %.2f s, check %.2f s)\n", run.layout.c_str(),

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "validation/policy/hit_validation.h"
+#include "validation/policy/judged_scene.h"
 
 namespace oct {
 namespace report_detail {
@@ -94,6 +95,45 @@ inline std::string reasonsText(const ClassCounts& c) {
     for (int b = 0; b < kReasonCount; ++b)
         if (c.reasons[b]) s += fmt(" %s %llu", reasonName(b), (unsigned long long)c.reasons[b]);
     return s;
+}
+
+// The block validate's and certify's reports both begin with (policy/judged_scene.h). JSON:
+// `scene` (name, kind, primitives, extent), `policy`, `reference`. Text: the head of the first
+// line ("validate NAME: 992 triangles, extent 3.2") and the policy line, whose pass rule
+// differs (it ends at "<= max ambiguous rate").
+inline const char* kindName(PrimKind k) {
+    return k == PrimKind::Triangles ? "triangles" : "spheres";
+}
+
+inline json sceneJson(const JudgedScene& r) {
+    return {{"name", r.scene},
+            {"kind", kindName(r.kind)},
+            {"primitives", r.primitives},
+            {"extent", r.extent}};
+}
+
+inline json policyJson(const ValidationPolicy& p) {
+    return {{"t_tolerance", p.tTolerance},
+            {"edge_tolerance", p.edgeTolerance},
+            {"grazing_cos", p.grazingCos},
+            {"max_ambiguous_rate", p.maxAmbiguousRate},
+            {"max_rechecks", p.maxRechecks}};
+}
+
+inline json referenceJson(double seconds) {
+    return {{"tracer", "embree (RTC_SCENE_FLAG_ROBUST)"}, {"seconds", seconds}};
+}
+
+inline std::string sceneHead(const char* command, const JudgedScene& r) {
+    return fmt("%s %s: %u %s, extent %.6g", command, r.scene.c_str(), r.primitives,
+               kindName(r.kind), r.extent);
+}
+
+inline std::string policyLine(const ValidationPolicy& p, const char* passRule) {
+    return fmt(
+        "policy   same hit: |dt| <= %.3g x extent; edge/tangent: %.3g x extent; grazing: "
+        "|cos| <= %.3g; pass: %s <= %.3g\n",
+        p.tTolerance, p.edgeTolerance, p.grazingCos, passRule, p.maxAmbiguousRate);
 }
 
 }  // namespace report_detail
