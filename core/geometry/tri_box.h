@@ -13,10 +13,6 @@
 
 namespace oct {
 
-// The name core/octree/builder.cpp still uses for Vec3T.
-template <class T>
-using V3 = Vec3T<T>;
-
 namespace tribox_detail {
 
 template <class T>

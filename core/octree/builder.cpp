@@ -11,8 +11,6 @@
 namespace oct {
 namespace {
 
-V3<double> toV3d(Vec3 v) { return {double(v.x), double(v.y), double(v.z)}; }
-
 // The builder runs the overlap test in double and widens the box by a relative 1e-9, so the
 // rounding of the test itself can only add a leaf (a counted false positive), never lose one:
 // a lost leaf would lose hits. Inputs are floats, exactly representable in double.
@@ -106,9 +104,9 @@ void checkParams(const Scene& scene, const BuildParams& params) {
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
     // Centre and half-size in double: a float centre can be off by half an ulp, which moves the
     // box and loses a triangle lying exactly in a face (spider.obj lost 42 references so).
-    V3<double> lo = toV3d(box.lo), hi = toV3d(box.hi);
-    V3<double> c = {(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5};
-    V3<double> h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
+    DVec3 lo = toDouble(box.lo), hi = toDouble(box.hi);
+    DVec3 c = {(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5};
+    DVec3 h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
     double pad = kOverlapPad * std::max({h.x, h.y, h.z});
     h = {h.x + pad, h.y + pad, h.z + pad};
     // A vertex in the closed box is a shared point: overlap, without the 13 axes. Most pairs a
@@ -118,7 +116,7 @@ bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
         if (std::fabs(double(v.x) - c.x) <= h.x && std::fabs(double(v.y) - c.y) <= h.y &&
             std::fabs(double(v.z) - c.z) <= h.z)
             return true;
-    return triBoxOverlap(c, h, toV3d(tri.v0), toV3d(tri.v1), toV3d(tri.v2));
+    return triBoxOverlap(c, h, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2));
 }
 
 double sphereCentreBoxDistanceSq(const Sphere& s, const Aabb& box) {

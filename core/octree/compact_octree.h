@@ -163,7 +163,7 @@ OCT_HD inline void halfSlabs(float o, float inv, float lo, float mid, float hi, 
 // The slab intervals of the eight children of `box` (the builder's halving, childBox, so the
 // same bits) clipped to [tLo, tHi]: enter[i], exit[i] for octant i, and the mask of the children
 // the ray meets (touching counts, as intersectBox). validate's box-test contract checks exactly
-// this function (validation/box_contract.h).
+// this function (validation/exact/box_contract.h).
 OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const RaySlabs& s, const Aabb& box,
                                                        float tLo, float tHi, float* enter,
                                                        float* exit) {
