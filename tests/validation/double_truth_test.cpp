@@ -85,6 +85,10 @@ void expectSameAnswers(const Scene& scene, int rays, uint64_t seed) {
         ASSERT_TRUE(sameBits(a.t, b.t)) << scene.name;
         ASSERT_EQ(truth.allHits(r), truth.allHitsBrute(r)) << scene.name;
         ASSERT_EQ(truth.touchinessNear(r), truth.touchinessNearBrute(r)) << scene.name;
+        // A touch distance beyond the BVH's growth (far rays' float error bound).
+        ASSERT_EQ(truth.touchinessNear(r, 3e-4 * extent),
+                  truth.touchinessNearBrute(r, 3e-4 * extent))
+            << scene.name;
         if (a.prim >= 0) {
             // Points on the surface and a little off it: the nearest primitive and its distance.
             for (double off : {0.0, 1e-4 * extent, 0.05 * extent}) {

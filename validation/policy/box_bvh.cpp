@@ -10,8 +10,8 @@ namespace oct {
 namespace {
 
 constexpr uint32_t kLeafSize = 4;
-// gamma_3 of double arithmetic (PBRT: 3 eps / (1 - 3 eps), eps = 2^-53).
-constexpr double kGamma3 = 3.0 * 0x1p-53 / (1.0 - 3.0 * 0x1p-53);
+// gamma_4 of double arithmetic (PBRT: n eps / (1 - n eps), eps = 2^-53).
+constexpr double kGamma4 = 4.0 * 0x1p-53 / (1.0 - 4.0 * 0x1p-53);
 
 DBox emptyBox() {
     const double inf = std::numeric_limits<double>::infinity();
@@ -96,19 +96,20 @@ void BoxBvh::build(uint32_t self, std::vector<uint32_t>& ids, uint32_t begin, ui
 }
 
 bool BoxBvh::slabs(const Node& n, const double org[3], const double inv[3], double t0, double t1,
-                   double& tEnter) const {
+                   double more, double& tEnter) const {
     for (int a = 0; a < 3; ++a) {
+        const double lo = n.box.lo[a] - more, hi = n.box.hi[a] + more;
         if (std::isinf(inv[a])) {  // parallel to the slab: inside it for all t, or never
-            if (org[a] < n.box.lo[a] || org[a] > n.box.hi[a]) return false;
+            if (org[a] < lo || org[a] > hi) return false;
             continue;
         }
-        double tn = (n.box.lo[a] - org[a]) * inv[a];
-        double tf = (n.box.hi[a] - org[a]) * inv[a];
+        double tn = (lo - org[a]) * inv[a];
+        double tf = (hi - org[a]) * inv[a];
         if (tn > tf) std::swap(tn, tf);
-        // Conservative for the exact box: each distance is within gamma_3 |t| of the exact one
-        // (a difference, a reciprocal, a product), so the interval grows by that much.
-        tf += 2.0 * kGamma3 * std::fabs(tf);
-        tn -= 2.0 * kGamma3 * std::fabs(tn);
+        // Conservative for the exact box: each distance is within gamma_4 |t| of the exact one
+        // (two differences, a reciprocal, a product), so the interval grows by that much.
+        tf += 2.0 * kGamma4 * std::fabs(tf);
+        tn -= 2.0 * kGamma4 * std::fabs(tn);
         if (tn > t0) t0 = tn;
         if (tf < t1) t1 = tf;
         if (t0 > t1) return false;

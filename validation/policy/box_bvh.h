@@ -2,7 +2,7 @@
 // (double_tracer.h): which primitives a segment may meet, which lie nearest a point. It only
 // filters: the caller tests every primitive it is handed exactly as the brute force would, so
 // answers are the brute force's as long as the filter is conservative. It is: boxes are grown
-// outwards on construction, and the slab test widens its interval by 1 + 2 gamma_3 (Ize 2013;
+// outwards on construction, and the slab test widens its interval by 2 gamma_4 |t| (Ize 2013;
 // Pharr, Jakob & Humphreys, PBRT 3rd ed., sec. 3.9.2), so a segment that meets a box in exact
 // arithmetic is never culled.
 #pragma once
@@ -21,11 +21,12 @@ public:
     // Builds over `boxes` (primitive i's box at index i), each grown by `pad` on every side.
     BoxBvh(const std::vector<DBox>& boxes, double pad);
 
-    // Calls f(prim) for every primitive whose grown box the segment org + t dir, t in [t0, t1],
-    // meets (t1 may be +inf), nearest box first; f returns the t beyond which nothing more is
-    // wanted (return t1 to see every box on the segment).
+    // Calls f(prim) for every primitive whose grown box, grown by `more` again, the segment
+    // org + t dir, t in [t0, t1], meets (t1 may be +inf), nearest box first; f returns the t
+    // beyond which nothing more is wanted (return t1 to see every box on the segment).
     template <class F>
-    void segment(const double org[3], const double dir[3], double t0, double t1, F&& f) const;
+    void segment(const double org[3], const double dir[3], double t0, double t1, F&& f,
+                 double more = 0.0) const;
 
     // Calls dist(prim) for the primitives whose grown box lies within `best` of p, nearest box
     // first, where dist returns the primitive's exact distance (and the caller keeps the best
@@ -46,7 +47,7 @@ private:
     static constexpr int kStack = 64;  // depth bound: the build splits at the median at worst
 
     bool slabs(const Node& n, const double org[3], const double inv[3], double t0, double t1,
-               double& tEnter) const;
+               double more, double& tEnter) const;
     double boxDistance2(const Node& n, const double p[3]) const;
     void build(uint32_t self, std::vector<uint32_t>& ids, uint32_t begin, uint32_t end,
                const std::vector<DBox>& boxes, const std::vector<double>& centres, int depth);
@@ -58,7 +59,8 @@ private:
 // --- implementation --------------------------------------------------------------------------
 
 template <class F>
-void BoxBvh::segment(const double org[3], const double dir[3], double t0, double t1, F&& f) const {
+void BoxBvh::segment(const double org[3], const double dir[3], double t0, double t1, F&& f,
+                     double more) const {
     if (nodes_.empty()) return;
     double inv[3];
     for (int a = 0; a < 3; ++a) inv[a] = 1.0 / dir[a];  // +-inf for a zero component
@@ -69,7 +71,7 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
     Entry stack[kStack];
     int top = 0;
     double tEnter;
-    if (!slabs(nodes_[0], org, inv, t0, t1, tEnter)) return;
+    if (!slabs(nodes_[0], org, inv, t0, t1, more, tEnter)) return;
     stack[top++] = {0, tEnter};
     while (top > 0) {
         const Entry e = stack[--top];
@@ -83,8 +85,8 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
             continue;
         }
         double ta, tb;
-        const bool ha = slabs(nodes_[n.first], org, inv, t0, t1, ta);
-        const bool hb = slabs(nodes_[n.first + 1], org, inv, t0, t1, tb);
+        const bool ha = slabs(nodes_[n.first], org, inv, t0, t1, more, ta);
+        const bool hb = slabs(nodes_[n.first + 1], org, inv, t0, t1, more, tb);
         // Nearest popped first: push the farther one first.
         if (ha && hb) {
             const bool aFirst = ta <= tb;

@@ -186,7 +186,8 @@ DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
     : scene_(&scene),
       count_(scene.primitiveCount()),
       tol_(tol),
-      bvh_(primitiveBoxes(scene), bvhPad(scene, tol.distance)) {
+      pad_(bvhPad(scene, tol.distance)),
+      bvh_(primitiveBoxes(scene), pad_) {
     Aabb b = scene.bounds();
     DVec3 lo = toDouble(b.lo), hi = toDouble(b.hi);
     sceneCentre_ = (lo + hi) * 0.5;
@@ -242,18 +243,18 @@ std::vector<std::pair<double, uint32_t>> DoubleTracer::allHitsBrute(const Double
     return out;
 }
 
-double DoubleTracer::clipFar(const DoubleRay& r) const {
+double DoubleTracer::clipFar(const DoubleRay& r, double tol) const {
     // Nothing lies beyond the scene's bounding sphere: clip an infinite ray there so the
     // distance computations below work on a finite segment.
     double dl = length(r.dir);
-    double far = (length(r.org - sceneCentre_) + sceneRadius_ + tol_.distance) / dl;
+    double far = (length(r.org - sceneCentre_) + sceneRadius_ + tol) / dl;
     return std::max(r.tmin, std::min(r.tmax, far));
 }
 
-uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
+uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar,
+                                          double tol) const {
     const Triangle& tri = scene_->triangles[prim];
     DVec3 v[3] = {toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2)};
-    const double tol = tol_.distance;
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     double edgeDist = INFINITY;
     for (int i = 0; i < 3; ++i)
@@ -282,11 +283,11 @@ uint32_t DoubleTracer::triangleTouchiness(uint32_t prim, const DoubleRay& r, dou
     return reasons;
 }
 
-uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const {
+uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar,
+                                        double tol) const {
     const Sphere& s = scene_->spheres[prim];
     DVec3 c = toDouble(s.center);
     double radius = double(s.radius);
-    const double tol = tol_.distance;
     uint32_t reasons = 0;
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     if (std::fabs(pointSegmentDist(c, p, q) - radius) <= tol) reasons |= kTangent;
@@ -297,11 +298,12 @@ uint32_t DoubleTracer::sphereTouchiness(uint32_t prim, const DoubleRay& r, doubl
     return reasons;
 }
 
-uint32_t DoubleTracer::touchiness(uint32_t prim, const DoubleRay& r) const {
+uint32_t DoubleTracer::touchiness(uint32_t prim, const DoubleRay& r, double distance) const {
     if (prim >= count_) return 0;
-    double tFar = clipFar(r);
-    return scene_->kind == PrimKind::Triangles ? triangleTouchiness(prim, r, tFar)
-                                               : sphereTouchiness(prim, r, tFar);
+    const double tol = touchDistance(distance);
+    double tFar = clipFar(r, tol);
+    return scene_->kind == PrimKind::Triangles ? triangleTouchiness(prim, r, tFar, tol)
+                                               : sphereTouchiness(prim, r, tFar, tol);
 }
 
 double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
@@ -330,14 +332,15 @@ int32_t DoubleTracer::nearestToBrute(DVec3 p, double& dist) const {
     return best;
 }
 
-uint32_t DoubleTracer::touchinessNearBrute(const DoubleRay& r) const {
-    double tFar = clipFar(r);
+uint32_t DoubleTracer::touchinessNearBrute(const DoubleRay& r, double distance) const {
+    const double tol = touchDistance(distance);
+    double tFar = clipFar(r, tol);
     DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     uint32_t reasons = 0;
     for (uint32_t i = 0; i < count_; ++i) {
-        if (pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol_.distance) continue;
-        reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar)
-                                                       : sphereTouchiness(i, r, tFar);
+        if (pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol) continue;
+        reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar, tol)
+                                                       : sphereTouchiness(i, r, tFar, tol);
     }
     return reasons;
 }
@@ -384,17 +387,22 @@ int32_t DoubleTracer::nearestTo(DVec3 p, double& dist) const {
     return best;
 }
 
-uint32_t DoubleTracer::touchinessNear(const DoubleRay& r) const {
-    const double tFar = clipFar(r);
+uint32_t DoubleTracer::touchinessNear(const DoubleRay& r, double distance) const {
+    const double tol = touchDistance(distance);
+    const double tFar = clipFar(r, tol);
     const DVec3 p = r.org + r.dir * r.tmin, q = r.org + r.dir * tFar;
     uint32_t reasons = 0;
     const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
-    bvh_.segment(o, d, r.tmin, tFar, [&](uint32_t i) {
-        if (!(pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol_.distance))
-            reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar)
-                                                           : sphereTouchiness(i, r, tFar);
-        return tFar;
-    });
+    // Boxes are grown by pad_; a larger touch distance grows them by the rest.
+    bvh_.segment(
+        o, d, r.tmin, tFar,
+        [&](uint32_t i) {
+            if (!(pointSegmentDist(boundCentre_[i], p, q) > boundRadius_[i] + tol))
+                reasons |= scene_->kind == PrimKind::Triangles ? triangleTouchiness(i, r, tFar, tol)
+                                                               : sphereTouchiness(i, r, tFar, tol);
+            return tFar;
+        },
+        tol > pad_ ? tol - pad_ : 0.0);
     return reasons;
 }
 

@@ -66,30 +66,35 @@ public:
     // Hit test of one primitive; t is the hit distance when it returns true.
     bool hit(uint32_t prim, const DoubleRay& r, double& t) const;
     // Why the answer for this primitive could flip under a perturbation of the ray by the
-    // tolerance (AmbiguityReason bits; 0 = the configuration is clean).
-    uint32_t touchiness(uint32_t prim, const DoubleRay& r) const;
+    // touch distance (AmbiguityReason bits; 0 = the configuration is clean). `distance`: a
+    // larger one than the tolerance's for this query (0: the tolerance's).
+    uint32_t touchiness(uint32_t prim, const DoubleRay& r, double distance = 0.0) const;
     // Distance from a point to the primitive's surface (the closed triangle; the sphere).
     double distanceTo(uint32_t prim, DVec3 p) const;
     // The primitive whose surface is nearest to p (lowest id among equals); `dist` receives the
     // distance. -1 for a scene without primitives.
     int32_t nearestTo(DVec3 p, double& dist) const;
     // Union of touchiness over every primitive near the ray's segment.
-    uint32_t touchinessNear(const DoubleRay& r) const;
+    uint32_t touchinessNear(const DoubleRay& r, double distance = 0.0) const;
 
     // The same four queries over every primitive, without the BVH: the oracle the tests hold
     // the accelerated ones to (same answers, bit for bit).
     Hit closestBrute(const DoubleRay& r) const;
     std::vector<std::pair<double, uint32_t>> allHitsBrute(const DoubleRay& r) const;
     int32_t nearestToBrute(DVec3 p, double& dist) const;
-    uint32_t touchinessNearBrute(const DoubleRay& r) const;
+    uint32_t touchinessNearBrute(const DoubleRay& r, double distance = 0.0) const;
 
     const TouchTolerance& tolerance() const { return tol_; }
     uint32_t primitiveCount() const { return count_; }
 
 private:
-    double clipFar(const DoubleRay& r) const;  // tmax clipped to beyond the scene's bounds
-    uint32_t triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const;
-    uint32_t sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar) const;
+    // tmax clipped to beyond the scene's bounds grown by tol.
+    double clipFar(const DoubleRay& r, double tol) const;
+    double touchDistance(double distance) const {
+        return distance > tol_.distance ? distance : tol_.distance;
+    }
+    uint32_t triangleTouchiness(uint32_t prim, const DoubleRay& r, double tFar, double tol) const;
+    uint32_t sphereTouchiness(uint32_t prim, const DoubleRay& r, double tFar, double tol) const;
 
     const Scene* scene_;
     uint32_t count_;
@@ -98,7 +103,8 @@ private:
     double sceneRadius_;
     std::vector<DVec3> boundCentre_;  // per primitive: a bounding sphere for the near filter
     std::vector<double> boundRadius_;
-    BoxBvh bvh_;  // over the primitives' boxes grown by the touch distance
+    double pad_;  // the BVH's growth of every box (at least the tolerance's touch distance)
+    BoxBvh bvh_;  // over the primitives' boxes grown by pad_
 };
 
 }  // namespace oct
