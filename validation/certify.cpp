@@ -61,26 +61,100 @@ struct Candidate {
 
 bool before(const Candidate& a, const Candidate& b) {
     if (a.severity != b.severity) return a.severity > b.severity;
-    if (a.severity >= int(HitClass::Ambiguous)) return a.index < b.index;
+    if (a.severity >= hitSeverity(HitClass::Ambiguous)) return a.index < b.index;
     float da = std::isnan(a.dt) ? INFINITY : a.dt, db = std::isnan(b.dt) ? INFINITY : b.dt;
     if (da != db) return da > db;
     return a.index < b.index;
 }
 
+// The report's record of row i.
+Finding finding(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
+                const HitArrays& ref, const std::vector<uint8_t>& cls,
+                const std::vector<uint32_t>& why, const std::vector<float>& rel,
+                const std::unordered_map<uint64_t, size_t>& slot,
+                const std::vector<Verdict>& verdict, const std::vector<int32_t>& inferred,
+                uint64_t i, const std::string& set) {
+    Finding f;
+    f.index = i;
+    f.set = set;
+    f.cls = HitClass(cls[i]);
+    f.reasons = why[i];
+    f.ray = rays.ray(i);
+    f.reference = ref.at(i);
+    f.ours = judged(c, ours, i, f.ray, f.reference);
+    auto it = slot.find(i);
+    if (it != slot.end()) {
+        f.rechecked = true;
+        f.truth = verdict[it->second].truth;
+        f.ours.prim = inferred[it->second];
+    } else if (f.ours.prim == kUnknownPrim) {
+        f.ours.prim = 0;  // past the cap: never inferred
+    }
+    f.relativeDt = rel[i];
+    return f;
+}
 }  // namespace
 
-bool RayCertification::passes(double maxAmbiguousRate) const {
-    for (const SetCertification& s : sets)
-        if (!s.clean()) return false;
-    return strict.ambiguousRate() <= maxAmbiguousRate;
+const char* outcomeName(Outcome o) {
+    switch (o) {
+        case Outcome::Pass:
+            return "PASS";
+        case Outcome::Fail:
+            return "FAIL";
+        case Outcome::Incomplete:
+            return "INCOMPLETE";
+        case Outcome::NotTested:
+            return "not tested";
+    }
+    return "?";
+}
+
+Outcome worse(Outcome a, Outcome b) {
+    auto rank = [](Outcome o) { return o == Outcome::Fail ? 2 : o == Outcome::Incomplete ? 1 : 0; };
+    return rank(a) >= rank(b) ? (rank(a) == 0 ? Outcome::Pass : a) : b;
+}
+
+Outcome RayCertification::correct(double maxAmbiguousRate) const {
+    if (all.compared == 0) return Outcome::NotTested;
+    if (all.wrong > 0 || strict.ambiguousRate() > maxAmbiguousRate) return Outcome::Fail;
+    return all.unverified > 0 ? Outcome::Incomplete : Outcome::Pass;
+}
+
+Outcome RayCertification::watertight() const {
+    if (leaks > 0) return Outcome::Fail;
+    if (leakUnverified > 0) return Outcome::Incomplete;
+    return leakChecked > 0 ? Outcome::Pass : Outcome::NotTested;
 }
 
 TopologySummary summarize(const MeshTopology& t) {
     return {t.closed(), t.vertices.size(), t.edges.size(), t.boundaryEdges, t.nonManifoldEdges};
 }
 
+namespace {
+
+// The query kind of a set: the table's for a standard set, the user's choice for their own.
+QueryKind queryOf(const RaySetRange& s, const CertifyOptions& o) {
+    const RaySetDesc* d = findRaySet(s.name);
+    if (!d) return o.ownSets;
+    return d->anyHit ? QueryKind::AnyHit : QueryKind::Closest;
+}
+
+// A query past the recheck cap: malformed answers are wrong without a recheck (O(1)), any
+// other is unverified.
+void overTheCap(const HitClassifier& c, const Ray& ray, Hit o, uint8_t& cls, uint32_t& why) {
+    if (c.malformed(ray, o)) {
+        cls = uint8_t(HitClass::Wrong);
+        why = c.malformed(o) ? uint32_t(kInvalidHit) : uint32_t(kOutsideRange);
+    } else {
+        cls = uint8_t(HitClass::Unverified);
+        why = kNotRechecked;
+    }
+}
+
+}  // namespace
+
 RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
-                             const HitArrays& ref) {
+                             const HitArrays& ref, const CertifyOptions& options) {
     const uint64_t n = rays.count();
     if (ours.t.size() != n || (ours.primIds && ours.prim.size() != n) || ref.t.size() != n ||
         !ref.primIds || ref.prim.size() != n)
@@ -94,6 +168,11 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                                         std::to_string(s.begin) + "+" + std::to_string(s.count) +
                                         " outside the " + std::to_string(n) + " rays");
     const ValidationPolicy& pol = c.policy();
+    // Each row's query kind, from its set (rows outside every set are closest-hit queries).
+    std::vector<uint8_t> anyHit(n, 0);
+    for (const RaySetRange& s : rays.sets)
+        if (queryOf(s, options) == QueryKind::AnyHit)
+            std::fill(anyHit.begin() + s.begin, anyHit.begin() + s.begin + s.count, 1);
 
     // Pass 1, cheap and parallel: the policy's first step for every ray.
     std::vector<uint8_t> cls(n);
@@ -105,12 +184,15 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         const Hit o = judged(c, ours, i, ray, r);
         const bool unknown = o.prim == kUnknownPrim;
         rel[i] = float(c.relativeDt(unknown ? Hit{o.t, 0} : o, r, length(ray.dir)));
-        cls[i] = uint8_t(unknown ? HitClass::Wrong : c.compare(ray, o, r));
+        if (unknown)
+            cls[i] = uint8_t(HitClass::Wrong);
+        else
+            cls[i] = uint8_t(anyHit[i] ? c.compareAnyHit(ray, o, r) : c.compare(ray, o, r));
     });
 
-    // Pass 2: rechecks in double, each set within its own budget.
+    // Pass 2: rechecks in double of every mismatch (each set up to the user's cap, if any).
     std::vector<uint64_t> recheck;
-    std::vector<uint8_t> queued(n, 0);  // 1 rechecked, 2 over the budget
+    std::vector<uint8_t> queued(n, 0);  // 1 rechecked, 2 past the cap
     for (const RaySetRange& s : rays.sets) {
         uint64_t inSet = 0;
         for (uint64_t i = s.begin; i < s.begin + s.count; ++i) {
@@ -123,9 +205,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                 const Ray ray = rays.ray(i);
                 Hit o = judged(c, ours, i, ray, ref.at(i));
                 if (o.prim == kUnknownPrim) o.prim = 0;
-                why[i] = kNotRechecked | (c.malformed(o)        ? uint32_t(kInvalidHit)
-                                          : c.malformed(ray, o) ? uint32_t(kOutsideRange)
-                                                                : 0u);
+                overTheCap(c, ray, o, cls[i], why[i]);
             }
         }
     }
@@ -135,14 +215,12 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         const uint64_t i = recheck[k];
         const Ray ray = rays.ray(i);
         Hit o = judged(c, ours, i, ray, ref.at(i));
-        if (o.prim == kUnknownPrim) {
-            const DoubleRay dr = toDoubleRay(ray);
-            const double t = double(o.t);
+        if (o.prim == kUnknownPrim) {  // --no-prim: the primitive nearest the reported point
             double dist;
-            o.prim = c.truth().nearestTo(dr.org + dr.dir * t, dist);
+            o.prim = c.truth().nearestTo(c.hitPoint(ray, o.t), dist);
         }
         inferred[k] = o.prim;
-        verdict[k] = c.recheckClosest(ray, o);
+        verdict[k] = anyHit[i] ? c.recheckAnyHit(ray, o) : c.recheckClosest(ray, o);
     });
     std::unordered_map<uint64_t, size_t> slot;
     for (size_t k = 0; k < recheck.size(); ++k) {
@@ -151,35 +229,48 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         slot[recheck[k]] = k;
     }
 
-    // Pass 3: the leak check of the targets, each set within its own budget.
+    // Pass 3: the leak check of the targets. A target ray passes when it hit a surface (its
+    // reported primitive, or with --no-prim any) at or before the target; any other answer is a
+    // candidate, a leak when the truth meets the target's sealed surface on the stored ray.
+    std::vector<uint8_t> leak(n, uint8_t(LeakState::NotTarget));
     std::vector<LeakFinding> leaks(rays.targets.size());
-    std::vector<uint8_t> leakState(rays.targets.size(), 0);  // 0 fine, 1 leak, 2 unsealed
     {
         std::vector<size_t> candidates;
         std::unordered_map<std::string, uint64_t> perSet;
+        std::vector<uint8_t> isCandidate(rays.targets.size(), 0);
+        parallelFor(rays.targets.size(), [&](size_t k) {
+            const RayTarget& tg = rays.targets[k];
+            if (tg.row >= n) return;
+            const Ray ray = rays.ray(tg.row);
+            const float t = ours.t[tg.row];
+            Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
+            if (!ours.primIds && o.prim >= 0 && !c.malformed(ray, o)) {
+                double dist;
+                o.prim = c.truth().nearestTo(c.hitPoint(ray, t), dist);
+            }
+            const bool sealedHere =
+                o.prim >= 0 && c.onSurface(ray, o) && double(t) <= tg.t + tTolerance(c, ray);
+            leaks[k].got = o;
+            isCandidate[k] = !sealedHere;
+        });
         for (size_t k = 0; k < rays.targets.size(); ++k) {
             const RayTarget& tg = rays.targets[k];
             if (tg.row >= n) throw std::invalid_argument("certifyRays: target row beyond the rays");
-            const Ray ray = rays.ray(tg.row);
-            const float t = ours.t[tg.row];
-            // A hit, well formed, at or before the target: t in [tmin, tmax] and a primitive id
-            // (when given) in range.
-            const Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
-            const bool hitBefore =
-                o.prim >= 0 && !c.malformed(ray, o) && double(t) <= tg.t + tTolerance(c, ray);
-            if (hitBefore) continue;
+            if (!isCandidate[k]) {
+                leak[tg.row] = uint8_t(LeakState::Sealed);
+                continue;
+            }
             LeakFinding& f = leaks[k];
             f.index = tg.row;
             f.target = tg;
-            f.got = o;
-            f.ray = ray;
+            f.ray = rays.ray(tg.row);
             for (const RaySetRange& s : rays.sets)
                 if (tg.row >= s.begin && tg.row < s.begin + s.count) f.set = s.name;
             if (perSet[f.set]++ < pol.maxRechecks) {
                 candidates.push_back(k);
             } else {
                 f.rechecked = false;
-                leakState[k] = 1;
+                leak[tg.row] = uint8_t(LeakState::Unverified);
             }
         }
         parallelFor(candidates.size(), [&](size_t m) {
@@ -188,7 +279,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             f.truth = c.truth().closest(toDoubleRay(f.ray));
             const bool sealed =
                 f.truth.prim >= 0 && double(f.truth.t) <= f.target.t + tTolerance(c, f.ray);
-            leakState[k] = sealed ? 1 : 2;
+            leak[f.index] = uint8_t(sealed ? LeakState::Leak : LeakState::Unsealed);
         });
     }
 
@@ -197,8 +288,9 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     for (const RaySetRange& s : rays.sets) {
         SetCertification sc;
         sc.range = s;
-        const RaySetDesc* kind = findRaySet(s.name);
-        sc.adversarial = kind && kind->adversarial;
+        const RaySetDesc* desc = findRaySet(s.name);
+        sc.adversarial = desc && desc->adversarial;
+        sc.query = queryOf(s, options);
         std::vector<Candidate> cand;
         const bool camera = s.name == "camera";
         if (camera) {
@@ -217,42 +309,38 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             sc.counts.bothMiss += bothMiss;
             if (!oMiss && !rMiss) raiseMax(sc.counts.maxRelativeDt, rel[i]);
             if (mismatch || k == HitClass::Tie || rel[i] > 0.0f)
-                cand.push_back({int(k), rel[i], i});
+                cand.push_back({hitSeverity(k), rel[i], i});
             if (camera) {
                 out.cameraClass[i - s.begin] = bothMiss ? 255 : uint8_t(k);
                 out.cameraRelativeDt[i - s.begin] = rel[i];
             }
+            switch (LeakState(leak[i])) {
+                case LeakState::Sealed:
+                    ++sc.leakChecked;
+                    break;
+                case LeakState::Leak:
+                    ++sc.leakChecked;
+                    ++sc.leaks;
+                    break;
+                case LeakState::Unsealed:
+                    ++sc.unsealed;
+                    break;
+                case LeakState::Unverified:
+                    ++sc.leakUnverified;
+                    break;
+                case LeakState::NotTarget:
+                    break;
+            }
         }
         const size_t keep = std::min(cand.size(), size_t(std::max(pol.worstCount, 0)));
         std::partial_sort(cand.begin(), cand.begin() + keep, cand.end(), before);
-        for (size_t m = 0; m < keep; ++m) {
-            const uint64_t i = cand[m].index;
-            Finding f;
-            f.index = i;
-            f.set = s.name;
-            f.cls = HitClass(cls[i]);
-            f.reasons = why[i];
-            f.ray = rays.ray(i);
-            f.reference = ref.at(i);
-            f.ours = judged(c, ours, i, f.ray, f.reference);
-            auto it = slot.find(i);
-            if (it != slot.end()) {
-                f.rechecked = true;
-                f.truth = verdict[it->second].truth;
-                f.ours.prim = inferred[it->second];
-            } else if (f.ours.prim == kUnknownPrim) {
-                f.ours.prim = 0;  // over the budget: never inferred
-            }
-            f.relativeDt = rel[i];
-            sc.worst.push_back(f);
-        }
+        for (size_t m = 0; m < keep; ++m)
+            sc.worst.push_back(finding(c, rays, ours, ref, cls, why, rel, slot, verdict, inferred,
+                                       cand[m].index, s.name));
         for (size_t k = 0; k < rays.targets.size(); ++k) {
             const RayTarget& tg = rays.targets[k];
             if (tg.row < s.begin || tg.row >= s.begin + s.count) continue;
-            ++sc.leakChecked;
-            if (leakState[k] == 2) ++sc.unsealed;
-            if (leakState[k] != 1) continue;
-            ++sc.leaks;
+            if (leak[tg.row] != uint8_t(LeakState::Leak)) continue;
             if (int(sc.leakList.size()) < pol.worstCount) sc.leakList.push_back(leaks[k]);
         }
         out.all.merge(sc.counts);
@@ -260,17 +348,47 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         out.leakChecked += sc.leakChecked;
         out.leaks += sc.leaks;
         out.unsealed += sc.unsealed;
+        out.leakUnverified += sc.leakUnverified;
         out.sets.push_back(std::move(sc));
     }
     // Over all sets: the same order, the most severe first.
     std::vector<std::pair<Candidate, const Finding*>> all;
     for (const SetCertification& sc : out.sets)
         for (const Finding& f : sc.worst)
-            all.push_back({{int(f.cls), float(f.relativeDt), f.index}, &f});
+            all.push_back({{hitSeverity(f.cls), float(f.relativeDt), f.index}, &f});
     std::stable_sort(all.begin(), all.end(),
                      [](const auto& a, const auto& b) { return before(a.first, b.first); });
     for (size_t m = 0; m < all.size() && int(m) < pol.worstCount; ++m)
         out.worst.push_back(*all[m].second);
+    // Examples: the first row of every (class, reason) that occurred, in row order, each row
+    // once; a class without reasons (a tie) by its first row.
+    {
+        std::vector<uint64_t> first(size_t(kHitClassCount) * (kReasonCount + 1), UINT64_MAX);
+        for (uint64_t i = 0; i < n; ++i) {
+            const int k = cls[i];
+            if (k == int(HitClass::Agree)) continue;
+            const size_t base = size_t(k) * (kReasonCount + 1);
+            if (first[base + kReasonCount] == UINT64_MAX) first[base + kReasonCount] = i;
+            for (int b = 0; b < kReasonCount; ++b)
+                if ((why[i] >> b & 1u) && first[base + size_t(b)] == UINT64_MAX)
+                    first[base + size_t(b)] = i;
+        }
+        std::vector<uint64_t> rows;
+        for (uint64_t r : first)
+            if (r != UINT64_MAX) rows.push_back(r);
+        std::sort(rows.begin(), rows.end());
+        rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+        for (uint64_t i : rows) {
+            std::string set;
+            for (const RaySetRange& s : rays.sets)
+                if (i >= s.begin && i < s.begin + s.count) set = s.name;
+            out.examples.push_back(
+                finding(c, rays, ours, ref, cls, why, rel, slot, verdict, inferred, i, set));
+        }
+    }
+    out.rayClass = std::move(cls);
+    out.rayReasons = std::move(why);
+    out.rayLeak = std::move(leak);
     return out;
 }
 
@@ -291,7 +409,7 @@ FilmValidation cameraDiff(const RayCertification& r, const RaySet& rays) {
 }
 
 CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArrays& ours,
-                            const ValidationPolicy& policy) {
+                            const ValidationPolicy& policy, const CertifyOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -313,7 +431,7 @@ CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArr
     }
     rep.referenceSeconds = since(t0);
     t0 = std::chrono::steady_clock::now();
-    rep.result = certifyRays(classifier, rays, ours, ref);
+    rep.result = certifyRays(classifier, rays, ours, ref, options);
     rep.checkSeconds = since(t0);
     rep.seconds = since(start);
     return rep;

@@ -1,26 +1,14 @@
 // Certification of any tracer's answers for a ray file (`octrace certify`, docs/CERTIFY.md), and
 // the per-ray check `octrace validate` runs on its own layouts: one code path.
 //
-// Every ray is classified by the policy of hit_check.h (docs/VALIDATION.md): the tracer's hit
-// against the reference's (Embree, robust), a mismatch rechecked in double precision and called
-// ambiguous or wrong. Counts, rates and the first findings are kept per ray set (ray_sets.h).
-//
-// Leak check (watertightness, no reference needed): an edges or vertices ray is aimed at a point
-// its edge's two triangles (its vertex's fan) seal, seen along the ray (ray_sets.h). A tracer
-// without cracks hits at or before that point: t <= target + t tolerance. Any other answer (a
-// miss, a later hit, a malformed one) is a leak candidate; the double-precision truth, whose
-// triangle test is watertight, then confirms that the float ray as stored does hit there, and
-// only then is it a leak (else it is counted as `unsealed`, which construction makes rare).
-//
-// Pass: in every set, no wrong ray and no leak; and the ambiguous rate over the sets that are
-// not adversarial, pooled (camera, shadow, around, inside, axis, and sets of one's own), at or
-// below the threshold. The adversarial sets (edges, vertices, grazing, tmin-tmax) are built of
-// touchy rays, where ambiguity is the expected outcome of a mismatch: their rate is reported,
-// not limited. Pooled, not per set, so that one ambiguous ray in a small set is judged against
-// all the rays where ambiguity is rare (validate judged its ray sets together, too).
-//
-// A faulty tracer's output never crashes the check: NaN, negative or out-of-range t, primitive
-// ids beyond the scene or below -1, and misses with a finite t are wrong (invalid_hit).
+// Every ray is judged by the policy of policy/hit_check.h (docs/VALIDATION.md): a closest-hit
+// query (an any-hit one for the shadow set and for sets of one's own given as such) against the
+// reference's answer, a mismatch rechecked in double and called ambiguous or wrong, or left
+// unverified past a cap the user set. The leak check needs no reference: an edges or vertices
+// ray aimed at a sealed target must hit on a surface at or before it. Two verdicts: correct (no
+// wrong answer; the ambiguous rate of the non-adversarial sets, pooled, at or below the limit)
+// and watertight (no leak); each PASS, FAIL, INCOMPLETE (unverified work and nothing wrong) or
+// not tested. A faulty tracer's output never crashes the check.
 #pragma once
 
 #include <optional>
@@ -35,24 +23,48 @@
 
 namespace oct {
 
+// A query's kind: the closest hit, or any hit on the segment (an occlusion query).
+enum class QueryKind : uint8_t { Closest = 0, AnyHit = 1 };
+
+struct CertifyOptions {
+    QueryKind ownSets = QueryKind::Closest;  // sets whose names are not standard (--query)
+};
+
+// Per row, as certify's leak file stores it (docs/CERTIFY.md): never renumber.
+enum class LeakState : uint8_t {
+    Sealed = 0,      // a target ray that hit a surface at or before its target
+    Leak = 1,        // it did not, and the truth meets the target's sealed surface there
+    NotTarget = 2,   // the row has no target
+    Unsealed = 3,    // a candidate the truth does not meet at the target: not counted as checked
+    Unverified = 4,  // a candidate past the recheck cap
+};
+
+// A verdict: PASS, FAIL, INCOMPLETE (work left unverified, nothing wrong), or nothing to judge.
+enum class Outcome : uint8_t { Pass = 0, Fail = 1, Incomplete = 2, NotTested = 3 };
+const char* outcomeName(Outcome o);  // "PASS", "FAIL", "INCOMPLETE", "not tested"
+// The worse of two outcomes (Fail over Incomplete over Pass; NotTested counts as Pass).
+Outcome worse(Outcome a, Outcome b);
+
 struct LeakFinding {
     uint64_t index = 0;  // row
     std::string set;
     RayTarget target;
     Hit got{INFINITY, -1};    // the tracer's answer
     Hit truth{INFINITY, -1};  // the double-precision closest hit
-    bool rechecked = true;    // false: over the recheck budget, counted unconfirmed
+    bool rechecked = true;    // false: past the recheck cap (unverified)
     Ray ray{};
 };
 
 struct SetCertification {
     RaySetRange range;
     bool adversarial = false;
+    QueryKind query = QueryKind::Closest;
     ClassCounts counts;
-    uint64_t leakChecked = 0;           // rays with a target
-    uint64_t leaks = 0;                 // confirmed by the truth (or over the budget)
-    uint64_t unsealed = 0;              // candidates the truth does not hit at the target either
-    std::vector<Finding> worst;         // wrong and ambiguous by row, then ties by |dt|
+    uint64_t leakChecked = 0;           // target rays judged (sealed or leaking)
+    uint64_t leaks = 0;                 // confirmed by the truth
+    uint64_t unsealed = 0;              // targets the truth does not meet: not counted as checked
+    uint64_t leakUnverified = 0;        // candidates past the recheck cap
+    std::vector<Finding> worst;         // wrong, unverified, ambiguous by row, then ties by |dt|
     std::vector<LeakFinding> leakList;  // the first ones by row
     // No wrong ray and no leak (the ambiguous rate is judged over the sets together).
     bool clean() const { return counts.wrong == 0 && leaks == 0; }
@@ -62,21 +74,32 @@ struct RayCertification {
     std::vector<SetCertification> sets;
     ClassCounts all;
     ClassCounts strict;  // the sets that are not adversarial, pooled: the ambiguous rate's base
-    uint64_t leakChecked = 0, leaks = 0, unsealed = 0;
-    std::vector<Finding> worst;  // over all sets, as ordered per set
+    uint64_t leakChecked = 0, leaks = 0, unsealed = 0, leakUnverified = 0;
+    std::vector<Finding> worst;     // over all sets, as ordered per set
+    std::vector<Finding> examples;  // the first row of every class and reason that occurred
+    // Per row (certify --verdicts): HitClass, AmbiguityReason bits, LeakState.
+    std::vector<uint8_t> rayClass;
+    std::vector<uint32_t> rayReasons;
+    std::vector<uint8_t> rayLeak;
     // The camera set, per pixel, for the diff image: class (HitClass, 255 = both miss) and
     // |dt| / extent. Empty without a camera set.
     std::vector<uint8_t> cameraClass;
     std::vector<float> cameraRelativeDt;
 
-    bool passes(double maxAmbiguousRate) const;
+    // The two verdicts (certify.h's header).
+    Outcome correct(double maxAmbiguousRate) const;
+    Outcome watertight() const;
+    // Both verdicts PASS (or watertightness not tested).
+    bool passes(double maxAmbiguousRate) const {
+        return worse(correct(maxAmbiguousRate), watertight()) == Outcome::Pass;
+    }
 };
 
 // Classifies every ray of `rays` (its sets, its targets) from our answers against the
 // reference's. Throws std::invalid_argument when an array's length is not the ray count, a
 // set's rows lie outside it, or the reference has no primitive ids.
 RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
-                             const HitArrays& reference);
+                             const HitArrays& reference, const CertifyOptions& options = {});
 
 // The camera set's outcome as a FilmValidation, for writeDiffImage
 // (validation/report/diff_image.h). Throws std::invalid_argument without a camera set or frame.
@@ -103,6 +126,6 @@ struct CertifyReport : JudgedScene {
 
 // Traces `rays` with Embree (robust mode) as the reference and certifies `ours` against it.
 CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArrays& ours,
-                            const ValidationPolicy& policy);
+                            const ValidationPolicy& policy, const CertifyOptions& options = {});
 
 }  // namespace oct

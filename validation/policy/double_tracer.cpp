@@ -123,10 +123,10 @@ bool raySphere(const DoubleRay& r, DVec3 c, double radius, double& tHit) {
 }  // namespace
 
 const char* reasonName(int bit) {
-    static const char* names[kReasonCount] = {"edge_or_vertex", "grazing",       "degenerate",
-                                              "tangent",        "range_end",     "reference_off",
-                                              "terminator",     "not_rechecked", "invalid_hit",
-                                              "missed_hit",     "false_hit",     "t_outside_range"};
+    static const char* names[kReasonCount] = {
+        "edge_or_vertex", "grazing",         "degenerate",    "tangent",     "range_end",
+        "reference_off",  "terminator",      "not_rechecked", "invalid_hit", "missed_hit",
+        "false_hit",      "t_outside_range", "off_surface"};
     return bit >= 0 && bit < kReasonCount ? names[bit] : "unknown";
 }
 
@@ -314,6 +314,48 @@ double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
     }
     const Sphere& s = scene_->spheres[prim];
     return std::fabs(length(p - toDouble(s.center)) - double(s.radius));
+}
+
+double DoubleTracer::floatTError(uint32_t prim, const DoubleRay& r) const {
+    if (prim >= count_ || scene_->kind != PrimKind::Triangles) return 0.0;
+    const Triangle& tri = scene_->triangles[prim];
+    const double d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
+    int kz = 0;
+    for (int a = 1; a < 3; ++a)
+        if (std::fabs(d[a]) > std::fabs(d[kz])) kz = a;
+    const int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+    if (d[kz] == 0.0) return INFINITY;
+    const double sx = -d[kx] / d[kz], sy = -d[ky] / d[kz], sz = 1.0 / d[kz];
+    const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
+    double x[3], y[3], z[3];
+    for (int i = 0; i < 3; ++i) {
+        const double p[3] = {double(v[i].x) - o[0], double(v[i].y) - o[1], double(v[i].z) - o[2]};
+        x[i] = p[kx] + sx * p[kz];
+        y[i] = p[ky] + sy * p[kz];
+        z[i] = p[kz] * sz;
+    }
+    const double e0 = x[1] * y[2] - y[1] * x[2], e1 = x[2] * y[0] - y[2] * x[0],
+                 e2 = x[0] * y[1] - y[0] * x[1];
+    const double det = e0 + e1 + e2;
+    if (det == 0.0) return INFINITY;
+    // PBRT's gamma(n) for single precision: n u / (1 - n u), u = 2^-24.
+    auto gamma = [](int n) { return n * 0x1p-24 / (1.0 - n * 0x1p-24); };
+    const double maxXt = std::max({std::fabs(x[0]), std::fabs(x[1]), std::fabs(x[2])});
+    const double maxYt = std::max({std::fabs(y[0]), std::fabs(y[1]), std::fabs(y[2])});
+    const double maxZt = std::max({std::fabs(z[0]), std::fabs(z[1]), std::fabs(z[2])});
+    const double deltaZ = gamma(3) * maxZt;
+    const double deltaX = gamma(5) * (maxXt + maxZt), deltaY = gamma(5) * (maxYt + maxZt);
+    const double deltaE = 2.0 * (gamma(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
+    const double maxE = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
+    return 3.0 * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) / std::fabs(det);
+}
+
+double DoubleTracer::diameter(uint32_t prim) const {
+    if (prim >= count_) return 0.0;
+    if (scene_->kind == PrimKind::Spheres) return 2.0 * double(scene_->spheres[prim].radius);
+    const Triangle& t = scene_->triangles[prim];
+    const DVec3 a = toDouble(t.v0), b = toDouble(t.v1), c = toDouble(t.v2);
+    return std::max({length(b - a), length(c - b), length(a - c)});
 }
 
 int32_t DoubleTracer::nearestToBrute(DVec3 p, double& dist) const {

@@ -30,13 +30,14 @@ enum AmbiguityReason : uint32_t {
     kRangeEnd = 1u << 4,       // the primitive lies within tolerance of the segment's ends
     kReferenceOff = 1u << 5,   // the double truth agrees with ours; the reference differs
     kTerminator = 1u << 6,     // only one tracer cast a shadow ray (surface edge-on to light)
-    kNotRechecked = 1u << 7,   // over the recheck budget: counted as wrong, never ambiguous
+    kNotRechecked = 1u << 7,   // over the user's recheck cap: unverified, neither right nor wrong
     kInvalidHit = 1u << 8,     // ours is malformed (hit_check.h, HitClassifier::malformed): wrong
     kMissedHit = 1u << 9,      // wrong: the truth hits a primitive before ours, nothing touchy
-    kFalseHit = 1u << 10,      // wrong: our primitive is not at our t, nothing touchy
+    kFalseHit = 1u << 10,      // wrong: an occlusion where nothing near the segment is touchy
     kOutsideRange = 1u << 11,  // wrong: a hit whose t lies outside the ray's [tmin, tmax]
+    kOffSurface = 1u << 12,    // wrong: the reported point is not on the primitive (on none)
 };
-constexpr int kReasonCount = 12;
+constexpr int kReasonCount = 13;
 const char* reasonName(int bit);            // "edge_or_vertex", "grazing", ...
 std::string reasonNames(uint32_t reasons);  // comma-separated, "" for none
 
@@ -71,6 +72,13 @@ public:
     uint32_t touchiness(uint32_t prim, const DoubleRay& r, double distance = 0.0) const;
     // Distance from a point to the primitive's surface (the closed triangle; the sphere).
     double distanceTo(uint32_t prim, DVec3 p) const;
+    // For a triangle: how far a single-precision watertight test's t may lie from the exact one
+    // for this ray, in units of t: Pharr, Jakob & Humphreys' bound for Woop et al.'s test (PBRT
+    // 3rd ed., sec. 3.9.6, "Conservative ray-triangle intersection"), evaluated on the exact
+    // sheared coordinates; +inf when the ray is parallel to the triangle's plane. 0 for spheres.
+    double floatTError(uint32_t prim, const DoubleRay& r) const;
+    // The longest side of a triangle, the diameter of a sphere.
+    double diameter(uint32_t prim) const;
     // The primitive whose surface is nearest to p (lowest id among equals); `dist` receives the
     // distance. -1 for a scene without primitives.
     int32_t nearestTo(DVec3 p, double& dist) const;

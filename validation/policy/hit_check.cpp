@@ -1,5 +1,6 @@
 #include "validation/policy/hit_check.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace oct {
@@ -12,17 +13,61 @@ const char* hitClassName(HitClass c) {
             return "ambiguous";
         case HitClass::Wrong:
             return "wrong";
+        case HitClass::Unverified:
+            return "unverified";
         case HitClass::Agree:
         default:
             return "agree";
     }
 }
 
+namespace {
+
+double largestCoordinate(const Scene& scene) {
+    const Aabb b = scene.bounds();
+    double m = 0.0;
+    for (int a = 0; a < 3; ++a)
+        m = std::max({m, std::fabs(double(b.lo[a])), std::fabs(double(b.hi[a]))});
+    return m;
+}
+
+}  // namespace
+
 HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
     : scene_(&scene),
       policy_(policy),
       extent_(sceneExtent(scene)),
+      sceneMagnitude_(largestCoordinate(scene)),
       truth_(scene, {policy.edgeTolerance * sceneExtent(scene), policy.grazingCos}) {}
+
+double HitClassifier::surfaceBound(const Ray& ray, int32_t prim) const {
+    const double origin = std::max(
+        {std::fabs(double(ray.org.x)), std::fabs(double(ray.org.y)), std::fabs(double(ray.org.z))});
+    double bound = std::max(policy_.edgeTolerance * extent_,
+                            kSurfaceUlps * 0x1p-24 * (origin + sceneMagnitude_));
+    if (prim >= 0 && uint32_t(prim) < truth_.primitiveCount()) {
+        const DoubleRay dr = toDoubleRay(ray);
+        const double along =
+            kSurfaceTErrors * truth_.floatTError(uint32_t(prim), dr) * length(dr.dir);
+        bound = std::max(bound, std::min(along, truth_.diameter(uint32_t(prim))));
+    }
+    return bound;
+}
+
+DVec3 HitClassifier::hitPoint(const Ray& ray, float t) const {
+    const DoubleRay dr = toDoubleRay(ray);
+    return dr.org + dr.dir * double(t);
+}
+
+double HitClassifier::surfaceDistance(const Ray& ray, Hit h) const {
+    if (h.prim < 0 || !std::isfinite(h.t)) return INFINITY;
+    return truth_.distanceTo(uint32_t(h.prim), hitPoint(ray, h.t));
+}
+
+bool HitClassifier::onSurface(const Ray& ray, Hit h) const {
+    if (h.prim < 0 || malformed(ray, h)) return false;
+    return surfaceDistance(ray, h) <= surfaceBound(ray, h.prim);
+}
 
 bool HitClassifier::malformed(Hit h) const {
     if (h.prim == -1) return !(h.t == INFINITY);
@@ -44,13 +89,7 @@ double HitClassifier::relativeDt(Hit a, Hit b, float dirLength) const {
     return std::fabs(double(a.t) - double(b.t)) * double(dirLength) / extent_;
 }
 
-bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const {
-    if (ours.prim < 0 || malformed(ours)) return false;
-    const DoubleRay dr = toDoubleRay(ray);
-    const double t = double(ours.t);
-    const DVec3 p = dr.org + dr.dir * t;
-    return truth_.distanceTo(uint32_t(ours.prim), p) <= truth_.tolerance().distance;
-}
+bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const { return onSurface(ray, ours); }
 
 HitClass HitClassifier::compare(const Ray& ray, Hit ours, Hit reference) const {
     // A malformed answer on either side goes to the recheck: ours is wrong there (invalid_hit),
@@ -79,10 +118,9 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     Verdict v;
     v.rechecked = true;
     const DoubleRay dr = toDoubleRay(ray);
-    const double dirLength =
-        std::sqrt(dr.dir.x * dr.dir.x + dr.dir.y * dr.dir.y + dr.dir.z * dr.dir.z);
-    const double tolAbs = policy_.tTolerance * extent_;  // world units
-    const double tTol = tolAbs / dirLength;              // in units of t
+    const double dirLength = length(dr.dir);
+    const double tTol = policy_.tTolerance * extent_ / dirLength;  // in units of t
+    const double touch = surfaceBound(ray);
     auto hits = truth_.allHits(dr);
     if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
     if (malformed(ray, ours)) {  // nothing to recheck: not an answer to this ray
@@ -94,25 +132,22 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     const double tOurs = oursHit ? double(ours.t) : INFINITY;
     const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
 
-    bool clean = false;  // an error nothing excuses
-    uint32_t reasons = 0, wrongWhy = 0;
-    // 1. Our own answer: a hit on q at tOurs, confirmed when the double test hits q within the
-    // tolerance of tOurs, or when our hit point lies within the edge tolerance of q itself (a
-    // grazing ray: the same small distance off the surface is a long way along the ray). The
-    // edge tolerance, not the t tolerance: a point off the surface is off sideways, and the
-    // t tolerance (5x larger) would excuse a perpendicular ray that clearly misses q's edge.
+    // 1. The rule: our point must lie on our primitive, whatever else is touchy about the ray.
+    // On it but not where the truth meets q (within the t tolerance): an edge or vertex the
+    // ray passes within the bound of, or a grazing ray, whose long along-ray error is small
+    // across the surface.
+    uint32_t reasons = 0;
     if (oursHit) {
+        if (!onSurface(ray, ours)) {
+            v.cls = HitClass::Wrong;
+            v.reasons = kOffSurface;
+            return v;
+        }
         double tq;
-        bool confirmed = truth_.hit(q, dr, tq) && std::fabs(tq - tOurs) <= tTol;
+        const bool confirmed = truth_.hit(q, dr, tq) && std::fabs(tq - tOurs) <= tTol;
         if (!confirmed) {
-            uint32_t r = truth_.touchiness(q, dr);
-            DVec3 p = dr.org + dr.dir * tOurs;
-            if (r == 0 && truth_.distanceTo(q, p) <= truth_.tolerance().distance) r = kGrazing;
-            if (r == 0) {
-                clean = true;
-                wrongWhy |= kFalseHit;
-            }
-            reasons |= r;
+            const uint32_t r = truth_.touchiness(q, dr, touch);
+            reasons |= r ? r : uint32_t(kGrazing);
         }
     }
     // 2. Every primitive the truth hits clearly before our answer: ours missed it, which only
@@ -122,33 +157,81 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     // first). A ray meets a triangle's plane once, so there our point and the truth's are the
     // same crossing, judged in step 1.
     const bool ownSecondCrossing = oursHit && scene_->kind == PrimKind::Spheres;
+    bool clean = false;
     for (const auto& h : hits) {
         if (!(h.first < tOurs - tTol)) break;
         if (oursHit && h.second == q && !ownSecondCrossing) continue;  // judged in step 1
-        uint32_t r = truth_.touchiness(h.second, dr);
-        if (r == 0) {
-            clean = true;
-            wrongWhy |= kMissedHit;
-        }
+        const uint32_t r = truth_.touchiness(h.second, dr, touch);
+        clean = clean || r == 0;
         reasons |= r;
     }
     if (clean) {
         v.cls = HitClass::Wrong;
-        v.reasons = wrongWhy;
+        v.reasons = kMissedHit;
         return v;
     }
-    bool agreesWithTruth = (!oursHit && hits.empty()) ||
-                           (oursHit && !hits.empty() && std::fabs(hits[0].first - tOurs) <= tTol);
+    const bool agreesWithTruth =
+        (!oursHit && hits.empty()) ||
+        (oursHit && !hits.empty() && std::fabs(hits[0].first - tOurs) <= tTol);
     if (agreesWithTruth) {
         // Ours is right; say too what made the reference stumble, when something did.
         reasons |= kReferenceOff;
-        if (oursHit) reasons |= truth_.touchiness(q, dr);
+        if (oursHit) reasons |= truth_.touchiness(q, dr, touch);
     }
     v.cls = reasons ? HitClass::Ambiguous : HitClass::Wrong;
     // Unexplained without a clean culprit: the truth's first hit is elsewhere than ours.
-    v.reasons = reasons ? reasons
-                        : (!hits.empty() && hits[0].first < tOurs ? uint32_t(kMissedHit)
-                                                                  : uint32_t(kFalseHit));
+    v.reasons = reasons ? reasons : uint32_t(kMissedHit);
+    return v;
+}
+
+HitClass HitClassifier::compareAnyHit(const Ray& ray, Hit ours, Hit reference) const {
+    if (malformed(ray, ours) || malformed(ray, reference)) return HitClass::Wrong;
+    const bool ho = ours.prim >= 0, hr = reference.prim >= 0;
+    if (!ho && !hr) return HitClass::Agree;
+    if (ho && hr && onSurface(ray, ours)) return HitClass::Agree;
+    return HitClass::Wrong;
+}
+
+Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours) const {
+    Verdict v;
+    v.rechecked = true;
+    const DoubleRay dr = toDoubleRay(ray);
+    const double touch = surfaceBound(ray);
+    const auto hits = truth_.allHits(dr);
+    v.truthOccluded = !hits.empty();
+    if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
+    if (malformed(ray, ours)) {
+        v.cls = HitClass::Wrong;
+        v.reasons = malformed(ours) ? kInvalidHit : kOutsideRange;
+        return v;
+    }
+    if (ours.prim >= 0) {
+        if (!onSurface(ray, ours)) {
+            v.cls = HitClass::Wrong;
+            v.reasons = kOffSurface;
+            return v;
+        }
+        // A point on a primitive inside the segment: right. Where the truth meets nothing,
+        // the segment passes within the bound of that primitive's edge or ends on it.
+        v.cls = HitClass::Ambiguous;
+        if (!hits.empty()) {
+            v.reasons = kReferenceOff;
+        } else {
+            const uint32_t r = truth_.touchiness(uint32_t(ours.prim), dr, touch);
+            v.reasons = r ? r : uint32_t(kGrazing);
+        }
+        return v;
+    }
+    // Ours saw nothing: every primitive the truth meets on the segment must be touchy.
+    uint32_t reasons = 0;
+    bool clean = false;
+    for (const auto& h : hits) {
+        const uint32_t r = truth_.touchiness(h.second, dr, touch);
+        clean = clean || r == 0;
+        reasons |= r;
+    }
+    v.cls = clean ? HitClass::Wrong : HitClass::Ambiguous;
+    v.reasons = clean ? uint32_t(kMissedHit) : (hits.empty() ? uint32_t(kReferenceOff) : reasons);
     return v;
 }
 

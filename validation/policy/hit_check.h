@@ -1,27 +1,9 @@
-// The per-ray policy of docs/VALIDATION.md ("The per-pixel policy"), for closest hits and for
-// occlusion (shadow) queries: ours against a reference tracer (Embree), and on a mismatch a
-// recheck against the double-precision, brute-force truth of double_tracer.h.
-//
-// Closest hits, first step: a hit of ours with a non-finite t or a primitive id out of range
-// is malformed, wrong whatever the reference says (reason invalid_hit); both miss -> agree;
-// both hit with |dt| <= tTolerance * extent -> agree, or a tie when the primitives differ and
-// our primitive passes within edgeTolerance * extent of our hit point (a shared edge or vertex:
-// both answers are right); anything else, a NaN included, is a mismatch, rechecked:
-//  1. our own hit (primitive q at t): confirmed when the truth hits q within the tolerance of
-//     t, or when our hit point lies within edgeTolerance * extent of q's surface (the error of
-//     a grazing ray is small across the surface and long along the ray: reason grazing);
-//     otherwise q must be touchy for this ray (edge or vertex, grazing, degenerate, tangent,
-//     range end) or the mismatch is wrong;
-//  2. every primitive the truth hits clearly before our t: ours missed it, which only a touchy
-//     configuration excuses, else wrong;
-//  3. nothing unexcused: ambiguous, with the reasons found; if ours also agrees with the
-//     truth by the first-step rule, the reference was the one off (reason reference_off).
-// A wrong verdict says why: invalid_hit (malformed), t_outside_range (a hit beyond the ray's
-// [tmin, tmax]), false_hit (step 1: our primitive is not there), missed_hit (step 2: we missed
-// a primitive before our t), or not_rechecked.
-// Occlusion (one ray, ours != reference): ours equals the truth -> ambiguous, reference_off;
-// ours lit but occluded in truth -> every occluder must be touchy; ours occluded but lit in
-// truth -> some primitive near the segment must be touchy; else wrong.
+// The per-ray policy of docs/VALIDATION.md ("The rule" and "The per-pixel policy") for
+// closest-hit and any-hit (occlusion) queries: ours against a reference tracer (Embree), a
+// mismatch rechecked against the double-precision truth (double_tracer.h). The rule above the
+// others: a reported hit must lie on its primitive (with --no-prim: on some primitive) within
+// the surface bound, inside [tmin, tmax]; touchiness may excuse which primitive, or a hit
+// against a miss, never a point off every surface (reason off_surface).
 #pragma once
 
 #include <cstdint>
@@ -44,16 +26,28 @@ struct ValidationPolicy {
     // Fail when ambiguous / compared exceeds this, separately for primary pixels, shadow rays
     // and the ray sets.
     double maxAmbiguousRate = 1e-3;
-    // Mismatches rechecked in double (each costs one brute-force pass over the primitives),
-    // per check: primary pixels, shadow rays and the ray set each have this many; beyond it
-    // they count as wrong with reason not_rechecked.
-    uint64_t maxRechecks = 20000;
+    // A cap on the mismatches rechecked in double, per check (primary pixels, shadow rays, each
+    // ray set, each set's leak candidates); beyond it a query is unverified (neither right nor
+    // wrong) and the verdict INCOMPLETE. No cap by default: every flagged query is rechecked.
+    uint64_t maxRechecks = UINT64_MAX;
     // Findings kept for the report: the worst pixels, shadow rays and rays.
     int worstCount = 16;
 };
 
-enum class HitClass : uint8_t { Agree = 0, Tie = 1, Ambiguous = 2, Wrong = 3 };
-const char* hitClassName(HitClass c);  // "agree", "tie", "ambiguous", "wrong"
+// The values are those of certify's per-ray class file (docs/CERTIFY.md): never renumber.
+enum class HitClass : uint8_t { Agree = 0, Tie = 1, Ambiguous = 2, Wrong = 3, Unverified = 4 };
+constexpr int kHitClassCount = 5;
+const char* hitClassName(HitClass c);  // "agree", "tie", "ambiguous", "wrong", "unverified"
+// The order reports list findings in: wrong, unverified, ambiguous, tie, agree.
+inline int hitSeverity(HitClass c) {
+    return c == HitClass::Wrong ? 4 : c == HitClass::Unverified ? 3 : int(c);
+}
+
+// Relative float error a correct single-precision tracer's hit point may carry, as a multiple
+// of 2^-24 times the magnitudes involved (docs/VALIDATION.md, "The surface bound").
+constexpr double kSurfaceUlps = 64.0;
+// Margin over the float test's own t error bound (PBRT's, for the watertight test).
+constexpr double kSurfaceTErrors = 2.0;
 
 struct Verdict {
     HitClass cls = HitClass::Agree;
@@ -81,9 +75,22 @@ public:
     bool malformed(Hit h) const;
     // The same, and a hit's t outside the ray's [tmin, tmax].
     bool malformed(const Ray& ray, Hit h) const;
-    // A different primitive at the same t is a tie only when our primitive passes within the
-    // edge tolerance of our hit point: a shared edge or vertex, or surfaces crossing there.
-    // O(1): one point-to-primitive distance.
+    // How far from a primitive a correct float tracer's hit point on this ray may lie (docs/
+    // VALIDATION.md, "The surface bound"): the largest of edgeTolerance x extent, kSurfaceUlps x
+    // 2^-24 x (|origin| + the scene's largest coordinate) (the magnitudes its arithmetic rounds,
+    // infinity norms) and, for primitive `prim`, kSurfaceTErrors x the float test's t error
+    // bound x |d| (DoubleTracer::floatTError, large for slivers and grazing rays) capped at the
+    // primitive's diameter. Without `prim`, the first two.
+    double surfaceBound(const Ray& ray, int32_t prim = -1) const;
+    // The point o + t d of a hit (in double from the float ray), and its distance to primitive
+    // `prim` (+inf for an id out of range).
+    DVec3 hitPoint(const Ray& ray, float t) const;
+    double surfaceDistance(const Ray& ray, Hit h) const;
+    // The rule: a well-formed hit inside [tmin, tmax] whose point lies within surfaceBound of
+    // its primitive. O(1).
+    bool onSurface(const Ray& ray, Hit h) const;
+    // A different primitive at the same t is a tie only when our hit is on our primitive: a
+    // shared edge or vertex, or surfaces crossing there.
     bool tieHolds(const Ray& ray, Hit ours) const;
     // |dt| / extent for two hits, +inf when exactly one hits or either hit's t is not finite
     // (never NaN, so a maximum over it cannot hide a broken hit), 0 when both miss.
@@ -93,13 +100,23 @@ public:
     Verdict closest(const Ray& ray, Hit ours, Hit reference) const;
     // Recheck of a closest-hit mismatch against the double truth.
     Verdict recheckClosest(const Ray& ray, Hit ours) const;
-    // Recheck of an occlusion mismatch (ours != reference) on one ray.
+    // The first step of an any-hit query with a reported hit (certify's shadow set): both miss
+    // -> agree; ours on a primitive in [tmin, tmax] and the reference hits -> agree (any hit is
+    // right); anything else is a mismatch (Wrong, to recheck).
+    HitClass compareAnyHit(const Ray& ray, Hit ours, Hit reference) const;
+    // Recheck of an any-hit mismatch: ours off every surface -> wrong (off_surface); ours on a
+    // surface -> ambiguous (the truth decides which side was off); ours a miss -> every
+    // primitive the truth meets on the segment must be touchy, else wrong (missed_hit).
+    Verdict recheckAnyHit(const Ray& ray, Hit ours) const;
+    // Recheck of an occlusion mismatch (ours != reference) on one ray, when only the yes/no
+    // answer is known (the Film's shadow flags).
     Verdict recheckOcclusion(const Ray& ray, bool oursOccluded) const;
 
 private:
     const Scene* scene_;
     ValidationPolicy policy_;
     double extent_;
+    double sceneMagnitude_;  // the largest |coordinate| of the scene's bounds
     DoubleTracer truth_;
 };
 

@@ -36,6 +36,9 @@ void ClassCounts::count(HitClass c, uint32_t why) {
         case HitClass::Wrong:
             ++wrong;
             break;
+        case HitClass::Unverified:
+            ++unverified;
+            break;
     }
     for (int b = 0; b < kReasonCount; ++b)
         if (why & (1u << b)) ++reasons[b];
@@ -48,6 +51,7 @@ void ClassCounts::merge(const ClassCounts& o) {
     ties += o.ties;
     ambiguous += o.ambiguous;
     wrong += o.wrong;
+    unverified += o.unverified;
     mismatches += o.mismatches;
     rechecked += o.rechecked;
     for (int b = 0; b < kReasonCount; ++b) reasons[b] += o.reasons[b];
@@ -56,7 +60,7 @@ void ClassCounts::merge(const ClassCounts& o) {
 
 namespace {
 
-int severity(HitClass c) { return int(c); }  // agree < tie < ambiguous < wrong
+int severity(HitClass c) { return hitSeverity(c); }
 
 template <class F>
 void keepWorst(std::vector<F>& v, int count, double (*dt)(const F&)) {
@@ -94,9 +98,18 @@ std::vector<uint64_t> worstIndices(std::vector<Candidate>& c, int count) {
 }
 double shadowDt(const ShadowFinding&) { return 0.0; }
 
-// A mismatch over the recheck budget is wrong; say too when our hit was malformed.
-uint32_t notRecheckedReasons(const HitClassifier& c, Hit ours) {
-    return kNotRechecked | (c.malformed(ours) ? uint32_t(kInvalidHit) : 0u);
+// A mismatch past the recheck cap: a malformed hit is wrong without a recheck (O(1)); any other
+// is unverified.
+Verdict overTheCap(const HitClassifier& c, const Ray& ray, Hit ours) {
+    Verdict v;
+    if (c.malformed(ray, ours)) {
+        v.cls = HitClass::Wrong;
+        v.reasons = c.malformed(ours) ? kInvalidHit : kOutsideRange;
+    } else {
+        v.cls = HitClass::Unverified;
+        v.reasons = kNotRechecked;
+    }
+    return v;
 }
 
 // Runs f(i) for i in [0, n) on the OpenMP threads; each call writes only its own slot.
@@ -180,7 +193,9 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
     });
     for (size_t k = nPrimary; k < primaryQueue.size(); ++k) {
         size_t i = primaryQueue[k];
-        primaryVerdict[i].reasons = notRecheckedReasons(c, {ours.t[i], ours.prim[i]});
+        int x = int(i % size_t(p.width)), y = int(i / size_t(p.width));
+        primaryVerdict[i] =
+            overTheCap(c, primaryRay(p.camera, x, y, p.width, p.height), {ours.t[i], ours.prim[i]});
     }
 
     std::vector<ShadowFinding> shadowFindings(shadowQueue.size());
@@ -219,7 +234,7 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
             }
         }
         if (k >= nShadow) {
-            f.cls = HitClass::Wrong;
+            f.cls = HitClass::Unverified;
             f.reasons = kNotRechecked;
             return;
         }
@@ -233,10 +248,12 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
     std::vector<Candidate> candidates;
     std::vector<uint8_t> shadowFlag(n, 0);  // 1 queued, decided in shadowFindings
     for (size_t k = 0; k < shadowQueue.size(); ++k) shadowFlag[shadowQueue[k]] = 1;
+    std::vector<uint8_t> primaryMismatch(n, 0);  // 1: queued for the recheck (or past the cap)
+    for (uint32_t i : primaryQueue) primaryMismatch[i] = 1;
     for (size_t i = 0; i < n; ++i) {
         const Verdict& vd = primaryVerdict[i];
         Hit o = {ours.t[i], ours.prim[i]}, r = {reference.t[i], reference.prim[i]};
-        bool queued = vd.rechecked || (vd.reasons & kNotRechecked);
+        const bool queued = primaryMismatch[i] != 0;
         HitClass k = vd.cls;
         v.primary.count(k, vd.reasons);
         v.primary.rechecked += vd.rechecked;

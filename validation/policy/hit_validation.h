@@ -24,9 +24,10 @@ struct ClassCounts {
     uint64_t ties = 0;
     uint64_t ambiguous = 0;
     uint64_t wrong = 0;
+    uint64_t unverified = 0;  // mismatches past the user's recheck cap: neither right nor wrong
     uint64_t mismatches = 0;  // before the recheck (hit/miss or |dt| beyond tolerance)
     uint64_t rechecked = 0;
-    // Ambiguous by reason; wrong ones only by not_rechecked and invalid_hit.
+    // Every class by reason (ambiguous: what excuses it; wrong: why it is wrong).
     std::array<uint64_t, kReasonCount> reasons{};
     // Over queries where both hit: |dt| / extent; +inf when a t was not finite.
     double maxRelativeDt = 0.0;
@@ -37,6 +38,8 @@ struct ClassCounts {
     bool passes(double maxAmbiguousRate) const {
         return wrong == 0 && ambiguousRate() <= maxAmbiguousRate;
     }
+    // Every query judged (none left unverified by a recheck cap).
+    bool complete() const { return unverified == 0; }
     void count(HitClass c, uint32_t reasons);
     void merge(const ClassCounts& o);
 };

@@ -429,10 +429,10 @@ void shadow(Context& c, Rng&, uint64_t, RaySet& out) {
 }  // namespace
 
 const std::vector<RaySetDesc>& standardRaySets() {
-    // id, name, seeded, needs triangles, needs a reference, adversarial, generator
+    // id, name, seeded, needs triangles, needs a reference, adversarial, generator, any-hit
     static const std::vector<RaySetDesc> table = {
         {0, "camera", false, false, false, false, camera},
-        {1, "shadow", false, false, true, false, shadow},
+        {1, "shadow", false, false, true, false, shadow, true},
         {2, "around", true, false, false, false, around},
         {3, "inside", true, false, false, false, inside},
         {4, "axis", true, false, false, false, axis},

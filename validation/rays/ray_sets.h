@@ -68,6 +68,8 @@ struct RaySetDesc {
     bool adversarial;
     // Appends the set's rows (`n`: the seeded sets' share; the camera sets make their own count).
     void (*generate)(RaySetContext& c, RaySetRng& rng, uint64_t n, RaySet& out);
+    // An occlusion query (shadow): any hit on the segment is right, not only the closest.
+    bool anyHit = false;
 };
 
 const std::vector<RaySetDesc>& standardRaySets();       // in `--set all` order
