@@ -10,15 +10,17 @@ file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/teach)
 if(OCT_VIEWER)
   set(OCT_ESBUILD ${OCT_WEB_DIR}/node_modules/.bin/esbuild)
   set(OCT_THREE_PACKAGE ${OCT_WEB_DIR}/node_modules/three/package.json)
-  if(NOT EXISTS ${OCT_ESBUILD} OR NOT EXISTS ${OCT_THREE_PACKAGE})
+  set(OCT_ESBUILD_PACKAGE ${OCT_WEB_DIR}/node_modules/esbuild/package.json)
+  if(NOT EXISTS ${OCT_ESBUILD} OR NOT EXISTS ${OCT_THREE_PACKAGE}
+     OR NOT EXISTS ${OCT_ESBUILD_PACKAGE})
     message(FATAL_ERROR
-      "octrace: teach/web/node_modules is missing (three.js and esbuild for `octrace explain "
-      "--html`). Run scripts/setup (it runs `npm ci` in teach/web), or configure with "
-      "-DOCT_VIEWER=OFF to build octrace without the HTML page.")
+      "octrace: teach/web/node_modules is missing or incomplete (three.js and esbuild for "
+      "`octrace explain --html`). Run scripts/setup (it runs `npm ci` in teach/web), or "
+      "configure with -DOCT_VIEWER=OFF to build octrace without the HTML page.")
   endif()
   file(READ ${OCT_THREE_PACKAGE} three_json)
   string(JSON three_version GET "${three_json}" version)
-  file(READ ${OCT_WEB_DIR}/node_modules/esbuild/package.json esbuild_json)
+  file(READ ${OCT_ESBUILD_PACKAGE} esbuild_json)
   string(JSON esbuild_version GET "${esbuild_json}" version)
   set(bundle ${PROJECT_BINARY_DIR}/teach/viewer.bundle.js)
   add_custom_command(
