@@ -173,7 +173,10 @@ const BackendDesc& parseOneBackend(const std::string& text, const char* command,
 }
 
 void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what) {
-    cmd.add_option("--json", path, "Write " + what + " as JSON to FILE ('-' or nothing: stdout)")
+    cmd.add_option("--json", path,
+                   "Also write " + what +
+                       " as JSON to FILE; a bare --json or '-' writes it to stdout (the text "
+                       "summary then goes to stderr). None by default")
         ->expected(0, 1)
         ->default_str("-");
 }
@@ -237,6 +240,9 @@ int runCli(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
         std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
         return 2;
+    } catch (const VerdictError& e) {
+        std::cerr << "octrace: " << e.what() << "\n";
+        return e.status();
     } catch (const std::bad_alloc&) {
         std::cerr << "octrace: error: " << outOfMemoryAdvice(app) << "\n";
         return 1;

@@ -16,8 +16,24 @@
 
 namespace oct {
 
-// Runs the command line; returns the process exit status. Never throws.
+// Runs the command line; returns the process exit status (docs/CERTIFY.md, "Exit status"): 0
+// PASS or done, 1 FAIL, 2 bad input or usage, 3 INCOMPLETE. Never throws.
 int runCli(int argc, char** argv);
+
+constexpr int kExitFail = 1;
+constexpr int kExitIncomplete = 3;
+
+// A verdict that is not a PASS: validate and certify end with it, runCli prints the message
+// and exits with the status.
+class VerdictError : public std::runtime_error {
+public:
+    VerdictError(const std::string& message, int status)
+        : std::runtime_error(message), status_(status) {}
+    int status() const { return status_; }
+
+private:
+    int status_;
+};
 
 // --hash-slots, --linear-budget, --hash-budget: the layouts' shape and memory limits, the same
 // for every command that builds layouts (SceneOptions below, and `octrace bench`).

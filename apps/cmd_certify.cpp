@@ -1,7 +1,5 @@
 // octrace certify: any tracer's answers for a ray file, judged per ray by the policy of
-// docs/VALIDATION.md against Embree and the double-precision truth, per ray set, with the leak
-// check of the edges and vertices sets (validation/certify.h, docs/CERTIFY.md). Exit status 0
-// only on PASS.
+// docs/VALIDATION.md (validation/certify.h, docs/CERTIFY.md); exit status as runCli's.
 #include <cstdio>
 #include <filesystem>
 
@@ -10,8 +8,10 @@
 #include "core/io/output_file.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "validation/certify_baseline.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_manifest.h"
+#include "validation/rays/verdict_files.h"
 #include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 
@@ -21,34 +21,55 @@ namespace {
 struct CertifyCliOptions {
     std::string scene;
     float radius = 0.0f;
-    std::string rays, hits, json, diffImage;
+    std::string rays, hits, json, diffImage, verdicts, baseline;
     bool noPrim = false;
     ValidationPolicy policy;
+    std::string requireText = "all", queryText = "closest";
     int threads = 0;
 };
 
 // Where the human summary goes: stdout, unless the JSON report does (`--json -`).
 std::FILE* summaryStream(const std::string& jsonPath) { return jsonPath == "-" ? stderr : stdout; }
 
-std::string failure(const CertifyReport& r) {
-    std::string sets;
-    for (const SetCertification& s : r.result.sets)
-        if (!s.clean()) sets += (sets.empty() ? "" : ", ") + s.range.name;
+// The one line a verdict other than PASS ends with: what failed (or is unverified), where.
+std::string verdictLine(const CertifyReport& r) {
+    std::string wrongSets, leakSets;
+    for (const SetCertification& s : r.result.sets) {
+        if (s.counts.wrong) wrongSets += (wrongSets.empty() ? "" : ", ") + s.range.name;
+        if (s.leaks) leakSets += (leakSets.empty() ? "" : ", ") + s.range.name;
+    }
     char rate[64];
     std::snprintf(rate, sizeof rate, "%.3g (limit %.3g)", r.result.strict.ambiguousRate(),
                   r.policy.maxAmbiguousRate);
-    return "certification FAILED: " + std::to_string(r.result.all.wrong) + " wrong, " +
-           std::to_string(r.result.leaks) + " leaks" + (sets.empty() ? "" : " (in " + sets + ")") +
-           ", ambiguous rate " + rate + " (see the report above)";
+    const Outcome o = r.outcome();
+    return std::string("certification ") + outcomeName(o) + " (--require " +
+           requireName(r.require) + "): correct " +
+           outcomeName(r.result.correct(r.policy.maxAmbiguousRate)) + ", " +
+           std::to_string(r.result.all.wrong) + " wrong" +
+           (wrongSets.empty() ? "" : " (in " + wrongSets + ")") + ", ambiguous rate " + rate +
+           "; watertight " + outcomeName(r.result.watertight()) + ", " +
+           std::to_string(r.result.leaks) + " leaks" +
+           (leakSets.empty() ? "" : " (in " + leakSets + ")") + "; " +
+           std::to_string(r.result.all.unverified + r.result.leakUnverified) +
+           " unverified (see the report above)";
 }
 
 void runCertify(const CertifyCliOptions& o) {
     const std::string manifestPath = manifestPathFor(o.rays);
     const bool haveManifest = std::filesystem::exists(manifestPath);
-    checkOutputPaths({o.json == "-" ? "" : o.json, o.diffImage},
-                     {o.scene, o.rays, haveManifest ? manifestPath : "", hitTPath(o.hits),
-                      o.noPrim ? "" : hitPrimPath(o.hits)});
-    for (const std::string& p : {o.json, o.diffImage})
+    std::vector<std::string> outputs = {o.json == "-" ? "" : o.json, o.diffImage};
+    if (!o.verdicts.empty())
+        for (const std::string& p : {verdictClassPath(o.verdicts), verdictReasonsPath(o.verdicts),
+                                     verdictLeakPath(o.verdicts)})
+            outputs.push_back(p);
+    std::vector<std::string> inputs = {o.scene, o.rays, haveManifest ? manifestPath : "",
+                                       hitTPath(o.hits), o.noPrim ? "" : hitPrimPath(o.hits)};
+    if (!o.baseline.empty())
+        for (const std::string& p : {verdictClassPath(o.baseline), verdictReasonsPath(o.baseline),
+                                     verdictLeakPath(o.baseline)})
+            inputs.push_back(p);
+    checkOutputPaths(outputs, inputs);
+    for (const std::string& p : outputs)
         if (!p.empty() && p != "-") checkWritable(p);
     setCpuThreadsFromOption(o.threads);
 
@@ -59,6 +80,8 @@ void runCertify(const CertifyCliOptions& o) {
                                  "' holds no rays: nothing to certify (make some "
                                  "with octrace rays)");
     HitArrays hits = readHitFiles(o.hits, n, o.rays, !o.noPrim);
+    std::optional<VerdictArrays> baseline;
+    if (!o.baseline.empty()) baseline = readVerdictFiles(o.baseline, n);
     std::optional<RayManifest> manifest;
     if (haveManifest) manifest = readManifest(manifestPath);
 
@@ -81,23 +104,44 @@ void runCertify(const CertifyCliOptions& o) {
             "rays --set camera,... and keep " +
             manifestPath + " beside them");
 
-    CertifyReport rep = certifyTracer(scene, rays, hits, o.policy);
+    CertifyOptions co;
+    co.ownSets = o.queryText == "anyhit" ? QueryKind::AnyHit : QueryKind::Closest;
+    CertifyReport rep = certifyTracer(scene, rays, hits, o.policy, co);
+    rep.require = o.requireText == "correct"      ? Require::Correct
+                  : o.requireText == "watertight" ? Require::Watertight
+                                                  : Require::All;
     rep.rays = o.rays;
     rep.hits = o.noPrim ? hitTPath(o.hits) : hitTPath(o.hits) + " " + hitPrimPath(o.hits);
     rep.manifest = haveManifest;
     rep.seed = manifest ? manifest->seed : 0;
     rep.notes = notes;
 
+    std::optional<BaselineComparison> change;
+    if (baseline) change = compareWithBaseline(rep.result, *baseline, o.baseline);
     std::FILE* human = summaryStream(o.json);
     std::fputs(humanSummary(rep).c_str(), human);
+    if (change) std::fputs(humanSummary(*change).c_str(), human);
     std::fflush(human);
-    if (!o.json.empty()) writeTextOutput(o.json, toJson(rep).dump(2) + "\n");
+    if (!o.verdicts.empty()) {
+        writeVerdictFiles(o.verdicts,
+                          {rep.result.rayClass, rep.result.rayReasons, rep.result.rayLeak});
+        std::fprintf(human, "wrote    %s, %s, %s\n", verdictClassPath(o.verdicts).c_str(),
+                     verdictReasonsPath(o.verdicts).c_str(), verdictLeakPath(o.verdicts).c_str());
+    }
+    if (!o.json.empty()) {
+        nlohmann::json j = toJson(rep);
+        j["baseline"] = change ? toJson(*change) : nlohmann::json(nullptr);
+        writeTextOutput(o.json, j.dump(2) + "\n");
+    }
     if (!o.diffImage.empty()) {
         writeDiffImage(o.diffImage, cameraDiff(rep.result, rays), rep.policy.tTolerance);
         std::fprintf(human, "wrote    %s\n", o.diffImage.c_str());
     }
     std::fflush(stdout);
-    if (!rep.passes()) throw std::runtime_error(failure(rep));
+    const Outcome outcome = rep.outcome();
+    if (outcome != Outcome::Pass)
+        throw VerdictError(verdictLine(rep),
+                           outcome == Outcome::Incomplete ? kExitIncomplete : kExitFail);
 }
 
 }  // namespace
@@ -107,7 +151,9 @@ void registerCertify(CLI::App& app) {
     CLI::App* cmd = app.add_subcommand(
         "certify",
         "Judge any tracer's hits for a ray file per ray and per set against Embree and a "
-        "double-precision truth, with a leak check (docs/CERTIFY.md); exit 0 only on PASS");
+        "double-precision truth, with a leak check (docs/CERTIFY.md). Exit status: 0 PASS, 1 FAIL, "
+        "2 bad input or usage, 3 INCOMPLETE (work left unverified by --max-rechecks, or a "
+        "required verdict not tested)");
     cmd->add_option("scene", o->scene, "The scene the rays were traced in")->required();
     cmd->add_option("--radius", o->radius,
                     "Sphere radius for point clouds (default: the manifest's, else as octrace "
@@ -124,7 +170,27 @@ void registerCertify(CLI::App& app) {
     addJsonOption(*cmd, o->json, "the report");
     cmd->add_option("--diff-image", o->diffImage,
                     "Write a PNG heat map of the camera set's |dt| with wrong pixels marked");
-    addPolicyOptions(*cmd, o->policy, "per set");
+    addPolicyOptions(*cmd, o->policy, "over the sets that are not adversarial, pooled",
+                     "in each set (and as many leak candidates)");
+    cmd->add_option("--verdicts", o->verdicts,
+                    "Write the per-ray verdicts: PREFIX.class.npy (uint8: 0 agree, 1 tie, 2 "
+                    "ambiguous, 3 wrong, 4 unverified), PREFIX.reasons.npy (uint32 bits) and "
+                    "PREFIX.leak.npy (uint8: 0 sealed, 1 leak, 2 not a target, 3 unsealed, 4 "
+                    "unverified); docs/CERTIFY.md");
+    cmd->add_option("--baseline", o->baseline,
+                    "Compare with an earlier run's --verdicts PREFIX: per set, the rays that got "
+                    "better and worse");
+    cmd->add_option("--require", o->requireText,
+                    "The verdicts that decide the exit status: correct (no wrong closest-hit or "
+                    "any-hit answer), watertight (no leak), or all")
+        ->check(CLI::IsMember({"correct", "watertight", "all"}))
+        ->capture_default_str();
+    cmd->add_option("--query", o->queryText,
+                    "How to judge sets of one's own (names the manifest gives that are not "
+                    "standard): closest hits, or anyhit (occlusion: any hit on the segment is "
+                    "right). The standard sets' kind is fixed: shadow is anyhit")
+        ->check(CLI::IsMember({"closest", "anyhit"}))
+        ->capture_default_str();
     cmd->add_option("--threads", o->threads,
                     "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
         ->check(CLI::Range(1, 4096));

@@ -8,9 +8,11 @@
 
 namespace oct {
 
-inline void addPolicyOptions(CLI::App& cmd, ValidationPolicy& p, const std::string& checks) {
+// `rateOver` says what the ambiguous rate is taken over, `recheckUnit` what one cap applies to.
+inline void addPolicyOptions(CLI::App& cmd, ValidationPolicy& p, const std::string& rateOver,
+                             const std::string& recheckUnit) {
     cmd.add_option("--max-ambiguous-rate", p.maxAmbiguousRate,
-                   "Fail when ambiguous / compared exceeds this (" + checks + ")")
+                   "Fail when ambiguous / compared exceeds this (" + rateOver + ")")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
     cmd.add_option("--t-tolerance", p.tTolerance,
@@ -24,6 +26,11 @@ inline void addPolicyOptions(CLI::App& cmd, ValidationPolicy& p, const std::stri
     cmd.add_option("--grazing-cos", p.grazingCos, "Grazing ray when |cos(ray, normal)| <= this")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 1.0));
+    cmd.add_option("--max-rechecks", p.maxRechecks,
+                   "Recheck at most this many mismatches in double " + recheckUnit +
+                       "; the rest are unverified and the verdict INCOMPLETE (exit 3). "
+                       "Default: every one")
+        ->check(CLI::Range(uint64_t(1), UINT64_MAX));
 }
 
 }  // namespace oct

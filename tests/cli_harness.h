@@ -229,6 +229,24 @@ inline ::testing::AssertionResult isOneLineError(const RunResult& r) {
     return ::testing::AssertionSuccess();
 }
 
+// A verdict other than PASS (validate, certify): exit status `status` (1 FAIL, 3 INCOMPLETE) and
+// one line on stderr, "octrace: certification FAIL ..." or "octrace: validation FAILED ...".
+inline ::testing::AssertionResult isOneLineVerdict(const RunResult& r, int status) {
+    if (r.timedOut || r.signal)
+        return ::testing::AssertionFailure() << "did not exit normally\n" << show(r);
+    if (r.status != status)
+        return ::testing::AssertionFailure() << "exit " << r.status << ", not " << status << "\n"
+                                             << show(r);
+    size_t lines = size_t(std::count(r.err.begin(), r.err.end(), '\n'));
+    if (lines != 1 || r.err.back() != '\n')
+        return ::testing::AssertionFailure() << lines << " lines on stderr\n" << show(r);
+    if (r.err.rfind("octrace: certification ", 0) != 0 &&
+        r.err.rfind("octrace: validation ", 0) != 0)
+        return ::testing::AssertionFailure() << "stderr does not start with the verdict\n"
+                                             << show(r);
+    return ::testing::AssertionSuccess();
+}
+
 // A fresh folder under the system's temporary folder, removed with everything in it.
 class TempDir {
 public:

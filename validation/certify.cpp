@@ -408,6 +408,23 @@ FilmValidation cameraDiff(const RayCertification& r, const RaySet& rays) {
     return v;
 }
 
+const char* requireName(Require r) {
+    return r == Require::Correct ? "correct" : r == Require::Watertight ? "watertight" : "all";
+}
+
+Outcome CertifyReport::outcome() const {
+    const Outcome c = result.correct(policy.maxAmbiguousRate), w = result.watertight();
+    switch (require) {
+        case Require::Correct:
+            return worse(c, Outcome::Pass);
+        case Require::Watertight:
+            return w == Outcome::NotTested ? Outcome::Incomplete : w;
+        case Require::All:
+            break;
+    }
+    return worse(c, w);
+}
+
 CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArrays& ours,
                             const ValidationPolicy& policy, const CertifyOptions& options) {
     const auto start = std::chrono::steady_clock::now();

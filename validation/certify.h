@@ -111,6 +111,10 @@ struct TopologySummary {
 };
 TopologySummary summarize(const MeshTopology& t);
 
+// Which verdicts decide certify's outcome (and its exit status): --require.
+enum class Require : uint8_t { Correct = 0, Watertight = 1, All = 2 };
+const char* requireName(Require r);  // "correct", "watertight", "all"
+
 struct CertifyReport : JudgedScene {
     std::string rays, hits;  // the files, as named
     bool primIds = true;
@@ -121,7 +125,13 @@ struct CertifyReport : JudgedScene {
     RayCertification result;
     double referenceSeconds = 0.0, checkSeconds = 0.0, seconds = 0.0;
 
-    bool passes() const { return result.passes(policy.maxAmbiguousRate); }
+    Require require = Require::All;
+
+    // The required verdicts combined: FAIL over INCOMPLETE over PASS. A required watertight
+    // verdict that could not be tested (no target rays) is INCOMPLETE; under `all` it is left
+    // out (the report says which standard sets were not given).
+    Outcome outcome() const;
+    bool passes() const { return outcome() == Outcome::Pass; }
 };
 
 // Traces `rays` with Embree (robust mode) as the reference and certifies `ours` against it.

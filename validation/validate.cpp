@@ -20,6 +20,20 @@ bool RunReport::passes(double maxAmbiguousRate) const {
     return true;
 }
 
+bool RunReport::complete(double maxAmbiguousRate) const {
+    for (const RunCheck* c : runChecks())
+        if (!c->result(*this, maxAmbiguousRate).complete) return false;
+    return true;
+}
+
+bool ValidationReport::complete() const {
+    for (const RunReport& r : runs)
+        if (!r.complete(policy.maxAmbiguousRate)) return false;
+    for (const SceneCheck* c : sceneChecks())
+        if (!c->result(*this).complete) return false;
+    return true;
+}
+
 uint64_t ValidationReport::wrong() const {
     uint64_t w = 0;
     for (const RunReport& r : runs) w += r.wrong();

@@ -63,7 +63,8 @@ struct RunReport {
     RayCertification rays;
     double renderSeconds = 0.0, traceSeconds = 0.0, checkSeconds = 0.0;
 
-    bool passes(double maxAmbiguousRate) const;  // every run check (validation/checks/check.h)
+    bool passes(double maxAmbiguousRate) const;    // every run check (validation/checks/check.h)
+    bool complete(double maxAmbiguousRate) const;  // nothing left unverified by a recheck cap
     uint64_t wrong() const {
         return film.primary.wrong + film.shadow.wrong + rays.all.wrong +
                (lightInside ? lightInside->primary.wrong + lightInside->shadow.wrong : 0);
@@ -86,7 +87,8 @@ struct ValidationReport : JudgedScene {
 
     uint64_t wrong() const;
     uint64_t ambiguous() const;
-    bool passes() const;  // every run, every scene check
+    bool passes() const;    // every run, every scene check
+    bool complete() const;  // nothing left unverified by a recheck cap
 };
 
 // Validates every tracer against Embree on `scene`. `canonical` (may be null) is the octree the

@@ -71,7 +71,7 @@ TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("FAIL"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("validation FAILED"), std::string::npos) << r.err;
-    EXPECT_TRUE(octtest::isOneLineError(r));
+    EXPECT_TRUE(octtest::isOneLineVerdict(r, 1));
 
     // The cost of one scene's layouts, baselines halved: the build costs twice as much.
     json c = readJson(OCT_SOURCE_DIR "/tests/data/cost_baselines.json");

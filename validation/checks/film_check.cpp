@@ -28,6 +28,10 @@ public:
         CheckResult r;
         r.pass = run.film.passes(maxAmbiguousRate) &&
                  (!run.lightInside || run.lightInside->passes(maxAmbiguousRate));
+        auto complete = [](const FilmValidation& f) {
+            return f.primary.complete() && f.shadow.complete();
+        };
+        r.complete = complete(run.film) && (!run.lightInside || complete(*run.lightInside));
         r.json = jsonOf(run);
         r.summary = summaryOf(run);
         return r;

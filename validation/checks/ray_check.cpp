@@ -20,7 +20,9 @@ public:
 
     CheckResult result(const RunReport& run, double maxAmbiguousRate) const override {
         CheckResult r;
-        r.pass = run.rays.passes(maxAmbiguousRate);
+        const Outcome o = worse(run.rays.correct(maxAmbiguousRate), run.rays.watertight());
+        r.pass = o != Outcome::Fail;
+        r.complete = o != Outcome::Incomplete;
         json worst = json::array();
         for (const Finding& f : run.rays.worst) worst.push_back(findingJson(f, false));
         r.json = {{"rays", toJson(run.rays, maxAmbiguousRate)}, {"worst_rays", worst}};

@@ -32,7 +32,35 @@ std::string leakPlace(const RayTarget& t) {
     return t.vertex() ? fmt("vertex %u", t.a) : fmt("edge %u-%u", t.a, t.b);
 }
 
-const char* verdict(const SetCertification& s) { return s.clean() ? "pass" : "FAIL"; }
+const char* verdict(const SetCertification& s) {
+    if (!s.clean()) return "FAIL";
+    return s.counts.unverified || s.leakUnverified ? "incomplete" : "pass";
+}
+
+const char* queryName(QueryKind q) { return q == QueryKind::AnyHit ? "any_hit" : "closest"; }
+
+// The standard sets a ray file lacks: a PASS on some of them says it is partial.
+std::vector<std::string> missingStandardSets(const RayCertification& r) {
+    std::vector<std::string> out;
+    for (const RaySetDesc& d : standardRaySets()) {
+        bool present = false;
+        for (const SetCertification& s : r.sets) present = present || s.range.name == d.name;
+        if (!present) out.push_back(d.name);
+    }
+    return out;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string s;
+    for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+    return s;
+}
+
+json findingWithExpected(const Finding& f) {
+    json fj = findingJson(f, false);
+    fj["expected"] = hitJson(expected(f));
+    return fj;
+}
 
 }  // namespace
 
@@ -41,7 +69,10 @@ json toJson(const RayCertification& r, double maxRate) {
     j["leak_checked"] = r.leakChecked;
     j["leaks"] = r.leaks;
     j["unsealed"] = r.unsealed;
+    j["leak_unverified"] = r.leakUnverified;
     j["pass"] = r.passes(maxRate);
+    j["correct"] = outcomeName(r.correct(maxRate));
+    j["watertight"] = outcomeName(r.watertight());
     j["strict"] = toJson(r.strict);  // the pooled sets the ambiguous rate is judged on
     json bySet = json::object(), order = json::array();
     for (const SetCertification& s : r.sets) {
@@ -49,16 +80,14 @@ json toJson(const RayCertification& r, double maxRate) {
         k["begin"] = s.range.begin;
         k["rows"] = s.range.count;
         k["adversarial"] = s.adversarial;
+        k["query"] = queryName(s.query);
         k["clean"] = s.clean();
         k["leak_checked"] = s.leakChecked;
         k["leaks"] = s.leaks;
         k["unsealed"] = s.unsealed;
+        k["leak_unverified"] = s.leakUnverified;
         json w = json::array(), l = json::array();
-        for (const Finding& f : s.worst) {
-            json fj = findingJson(f, false);
-            fj["expected"] = hitJson(expected(f));
-            w.push_back(fj);
-        }
+        for (const Finding& f : s.worst) w.push_back(findingWithExpected(f));
         for (const LeakFinding& f : s.leakList) l.push_back(leakJson(f));
         k["worst"] = w;
         k["leak_list"] = l;
@@ -67,28 +96,45 @@ json toJson(const RayCertification& r, double maxRate) {
     }
     j["sets"] = order;
     j["by_set"] = bySet;
+    json examples = json::array();
+    for (const Finding& f : r.examples) examples.push_back(findingWithExpected(f));
+    j["examples"] = examples;
+    j["missing_standard_sets"] = missingStandardSets(r);
     return j;
 }
 
 std::string humanRaySets(const RayCertification& r, double maxRate) {
+    // An unverified column only when a recheck cap left something unverified.
+    const bool capped = r.all.unverified || r.leakUnverified;
     std::string s =
-        "  set           rows     agree    ties ambiguous   wrong  leaks  amb. rate  max|dt|/ext  "
-        "verdict\n";
+        fmt("  set           rows     agree    ties ambiguous   wrong%s  leaks  amb. rate  "
+            "max|dt|/ext  verdict\n",
+            capped ? " unverif." : "");
     auto line = [&](const std::string& name, const ClassCounts& c, uint64_t leaks, uint64_t checked,
-                    const char* v, bool adversarial) {
-        return fmt("  %-10s %8llu %9llu %7llu %9llu %7llu %6s %10.3g%s %12.3g  %s\n", name.c_str(),
-                   (unsigned long long)c.compared, (unsigned long long)c.agree,
+                    uint64_t leakUnverified, const char* v, bool adversarial, bool anyHit) {
+        const std::string unverified =
+            capped ? fmt(" %8llu", (unsigned long long)(c.unverified + leakUnverified)) : "";
+        return fmt("  %-10s %8llu %9llu %7llu %9llu %7llu%s %6s %10.3g%s %12.3g  %s%s\n",
+                   name.c_str(), (unsigned long long)c.compared, (unsigned long long)c.agree,
                    (unsigned long long)c.ties, (unsigned long long)c.ambiguous,
-                   (unsigned long long)c.wrong, checked ? std::to_string(leaks).c_str() : "-",
-                   c.ambiguousRate(), adversarial ? "*" : " ", c.maxRelativeDt, v);
+                   (unsigned long long)c.wrong, unverified.c_str(),
+                   checked ? std::to_string(leaks).c_str() : "-", c.ambiguousRate(),
+                   adversarial ? "*" : " ", c.maxRelativeDt, v, anyHit ? " (any hit)" : "");
     };
     bool anyAdversarial = false;
     for (const SetCertification& k : r.sets) {
-        s += line(k.range.name, k.counts, k.leaks, k.leakChecked, verdict(k), k.adversarial);
+        s += line(k.range.name, k.counts, k.leaks, k.leakChecked, k.leakUnverified, verdict(k),
+                  k.adversarial, k.query == QueryKind::AnyHit);
         anyAdversarial = anyAdversarial || k.adversarial;
     }
-    if (r.sets.size() > 1)
-        s += line("all", r.all, r.leaks, r.leakChecked, r.passes(maxRate) ? "pass" : "FAIL", false);
+    if (r.sets.size() > 1) {
+        const Outcome o = worse(r.correct(maxRate), r.watertight());
+        s += line("all", r.all, r.leaks, r.leakChecked, r.leakUnverified,
+                  o == Outcome::Fail         ? "FAIL"
+                  : o == Outcome::Incomplete ? "incomplete"
+                                             : "pass",
+                  false, false);
+    }
     s += fmt("  ambiguous rate over the%s sets: %.3g (%llu of %llu; limit %.3g): %s\n",
              anyAdversarial ? " non-adversarial" : "", r.strict.ambiguousRate(),
              (unsigned long long)r.strict.ambiguous, (unsigned long long)r.strict.compared, maxRate,
@@ -100,21 +146,28 @@ std::string humanRaySets(const RayCertification& r, double maxRate) {
         if (!reasons.empty()) s += "  " + k.range.name + " by reason:" + reasons + "\n";
         if (k.unsealed)
             s +=
-                fmt("  %s: %llu leak candidates the truth does not hit at the target either "
-                    "(not leaks)\n",
+                fmt("  %s: %llu targets the truth does not meet at the target on the stored ray "
+                    "(unsealed: not counted as checked)\n",
                     k.range.name.c_str(), (unsigned long long)k.unsealed);
     }
+    auto row = [&](const Finding& f) {
+        return fmt("    %8llu %-9s %-10s %-18s %s | %s | %s\n", (unsigned long long)f.index,
+                   f.set.c_str(), hitClassName(f.cls), ("[" + reasonNames(f.reasons) + "]").c_str(),
+                   hitText(f.ours).c_str(), hitText(expected(f)).c_str(),
+                   hitText(f.reference).c_str());
+    };
     int shown = 0;
     for (const Finding& f : r.worst) {
-        if (f.cls != HitClass::Ambiguous && f.cls != HitClass::Wrong) continue;
+        if (f.cls == HitClass::Agree || f.cls == HitClass::Tie) continue;
         if (shown++ == 12) break;
         if (shown == 1)
-            s += "  first wrong, then ambiguous rays (row set: class [reasons] got | expected "
-                 "(truth when rechecked) | embree)\n";
-        s += fmt("    %8llu %-9s %-9s %-18s %s | %s | %s\n", (unsigned long long)f.index,
-                 f.set.c_str(), hitClassName(f.cls), ("[" + reasonNames(f.reasons) + "]").c_str(),
-                 hitText(f.ours).c_str(), hitText(expected(f)).c_str(),
-                 hitText(f.reference).c_str());
+            s += "  first wrong, unverified, then ambiguous rays (row set: class [reasons] got | "
+                 "expected (truth when rechecked) | embree)\n";
+        s += row(f);
+    }
+    if (!r.examples.empty()) {
+        s += "  an example of every class and reason that occurred (the first row of each)\n";
+        for (const Finding& f : r.examples) s += row(f);
     }
     shown = 0;
     for (const SetCertification& k : r.sets)
@@ -128,6 +181,46 @@ std::string humanRaySets(const RayCertification& r, double maxRate) {
     return s;
 }
 
+namespace {
+
+// The two verdicts, each with what to do when it is not a PASS.
+std::string verdictLines(const CertifyReport& r) {
+    const Outcome correct = r.result.correct(r.policy.maxAmbiguousRate);
+    const Outcome watertight = r.result.watertight();
+    std::string s;
+    s += fmt("correct     %-10s", outcomeName(correct));
+    if (correct == Outcome::Fail)
+        s +=
+            fmt(" %llu closest-hit or any-hit answers wrong, ambiguous rate %.3g (limit %.3g): the "
+                "rows above say which and why",
+                (unsigned long long)r.result.all.wrong, r.result.strict.ambiguousRate(),
+                r.policy.maxAmbiguousRate);
+    else if (correct == Outcome::Incomplete)
+        s += fmt(" %llu answers unverified past --max-rechecks: raise it or drop it to judge them",
+                 (unsigned long long)r.result.all.unverified);
+    else if (correct == Outcome::Pass)
+        s += " no wrong answer";
+    s += requireName(r.require) == std::string("watertight") ? " (not required)\n" : "\n";
+    s += fmt("watertight  %-10s", outcomeName(watertight));
+    if (watertight == Outcome::Fail)
+        s +=
+            fmt(" %llu rays went through a sealed edge or vertex: the triangle test has cracks; a "
+                "watertight test does not (Woop, Benthin & Wald, \"Watertight Ray/Triangle "
+                "Intersection\", JCGT 2013)",
+                (unsigned long long)r.result.leaks);
+    else if (watertight == Outcome::Incomplete)
+        s += fmt(" %llu leak candidates unverified past --max-rechecks",
+                 (unsigned long long)r.result.leakUnverified);
+    else if (watertight == Outcome::Pass)
+        s += fmt(" no leak at %llu sealed targets", (unsigned long long)r.result.leakChecked);
+    else
+        s += " (no edges or vertices set: make the rays with octrace rays --set edges,vertices)";
+    s += requireName(r.require) == std::string("correct") ? " (not required)\n" : "\n";
+    return s;
+}
+
+}  // namespace
+
 json toJson(const CertifyReport& r) {
     json topo = nullptr;
     if (r.topology)
@@ -139,8 +232,13 @@ json toJson(const CertifyReport& r) {
     json scene = sceneJson(r);
     scene["topology"] = topo;
     return {{"pass", r.passes()},
+            {"verdict", outcomeName(r.outcome())},
+            {"require", requireName(r.require)},
+            {"correct", outcomeName(r.result.correct(r.policy.maxAmbiguousRate))},
+            {"watertight", outcomeName(r.result.watertight())},
             {"wrong", r.result.all.wrong},
             {"ambiguous", r.result.all.ambiguous},
+            {"unverified", r.result.all.unverified + r.result.leakUnverified},
             {"leaks", r.result.leaks},
             {"scene", scene},
             {"rays", r.rays},
@@ -176,12 +274,20 @@ std::string humanSummary(const CertifyReport& r) {
              "fans only, where the target is sealed whatever the rest of the mesh is\n";
     for (const std::string& n : r.notes) s += "note     " + n + "\n";
     s += humanRaySets(r.result, r.policy.maxAmbiguousRate);
+    s += "\n" + verdictLines(r);
+    const std::vector<std::string> missing = missingStandardSets(r.result);
     s +=
-        fmt("\n%s: %llu wrong, %llu ambiguous, %llu leaks (of %llu rays checked for leaks) over "
-            "%llu rays (%.2f s)\n",
-            r.passes() ? "PASS" : "FAIL", (unsigned long long)r.result.all.wrong,
-            (unsigned long long)r.result.all.ambiguous, (unsigned long long)r.result.leaks,
-            (unsigned long long)r.result.leakChecked, (unsigned long long)rows, r.seconds);
+        fmt("%s: %llu wrong, %llu ambiguous, %llu unverified, %llu leaks (of %llu rays checked "
+            "for leaks) over %llu rays%s (%.2f s)\n",
+            outcomeName(r.outcome()), (unsigned long long)r.result.all.wrong,
+            (unsigned long long)r.result.all.ambiguous,
+            (unsigned long long)(r.result.all.unverified + r.result.leakUnverified),
+            (unsigned long long)r.result.leaks, (unsigned long long)r.result.leakChecked,
+            (unsigned long long)rows,
+            missing.empty()
+                ? ""
+                : (", partial: the standard sets " + joined(missing) + " not given").c_str(),
+            r.seconds);
     return s;
 }
 

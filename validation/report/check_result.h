@@ -12,7 +12,8 @@ namespace oct {
 struct CheckResult {
     bool ran = true;  // false: left out by the options or the inputs (its fields are null)
     bool pass = true;
-    std::string summary;                             // its block of the human summary
+    bool complete = true;  // false: work a recheck cap left unverified (nothing wrong in it)
+    std::string summary;   // its block of the human summary
     nlohmann::json json = nlohmann::json::object();  // its fields of the JSON report object
     std::string failureText;  // ", 3 replication false negatives" when it fails, else ""
     std::string verdict;      // its words in the summary's closing line, e.g. ", replication ok"

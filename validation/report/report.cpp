@@ -12,17 +12,12 @@ using namespace report_detail;
 json toJson(const ClassCounts& c) {
     json reasons = json::object();
     for (int b = 0; b < kReasonCount; ++b) reasons[reasonName(b)] = c.reasons[b];
-    return {{"compared", c.compared},
-            {"agree", c.agree},
-            {"both_miss", c.bothMiss},
-            {"ties", c.ties},
-            {"ambiguous", c.ambiguous},
-            {"wrong", c.wrong},
-            {"mismatches", c.mismatches},
-            {"rechecked", c.rechecked},
-            {"ambiguous_rate", c.ambiguousRate()},
-            {"wrong_rate", c.wrongRate()},
-            {"max_relative_dt", num(c.maxRelativeDt)},
+    return {{"compared", c.compared},      {"agree", c.agree},
+            {"both_miss", c.bothMiss},     {"ties", c.ties},
+            {"ambiguous", c.ambiguous},    {"wrong", c.wrong},
+            {"unverified", c.unverified},  {"mismatches", c.mismatches},
+            {"rechecked", c.rechecked},    {"ambiguous_rate", c.ambiguousRate()},
+            {"wrong_rate", c.wrongRate()}, {"max_relative_dt", num(c.maxRelativeDt)},
             {"reasons", reasons}};
 }
 
@@ -119,6 +114,9 @@ json toJson(const ValidationReport& r) {
               {"wrong", r.wrong()},
               {"ambiguous", r.ambiguous()},
               {"pass", r.passes()},
+              {"verdict", !r.passes()    ? "FAIL"
+                          : r.complete() ? "PASS"
+                                         : "INCOMPLETE"},
               {"seconds", r.seconds}};
     for (const SceneCheck* c : sceneChecks()) j.update(c->result(r).json);
     return j;
@@ -191,8 +189,11 @@ std::string humanSummary(const ValidationReport& r) {
     s += fmt("reference embree (robust) %.2f s\n", r.referenceSeconds);
     for (const RunReport& run : r.runs) {
         s += fmt("\n%s on %s: %s  (render %.2f s, rays %.2f s, check %.2f s)\n", run.layout.c_str(),
-                 run.backend.c_str(), run.passes(rate) ? "PASS" : "FAIL", run.renderSeconds,
-                 run.traceSeconds, run.checkSeconds);
+                 run.backend.c_str(),
+                 !run.passes(rate)    ? "FAIL"
+                 : run.complete(rate) ? "PASS"
+                                      : "INCOMPLETE",
+                 run.renderSeconds, run.traceSeconds, run.checkSeconds);
         for (const RunCheck* c : runChecks()) s += c->result(run, rate).summary;
     }
     std::string verdicts;
@@ -202,8 +203,11 @@ std::string humanSummary(const ValidationReport& r) {
         verdicts += x.verdict;
     }
     s += fmt("\n%s: %llu wrong, %llu ambiguous over %zu run(s)%s (%.2f s)\n",
-             r.passes() ? "PASS" : "FAIL", (unsigned long long)r.wrong(),
-             (unsigned long long)r.ambiguous(), r.runs.size(), verdicts.c_str(), r.seconds);
+             !r.passes()    ? "FAIL"
+             : r.complete() ? "PASS"
+                            : "INCOMPLETE",
+             (unsigned long long)r.wrong(), (unsigned long long)r.ambiguous(), r.runs.size(),
+             verdicts.c_str(), r.seconds);
     return s;
 }
 
