@@ -2,6 +2,7 @@
 #include "core/scene/scene_formats.h"
 
 #include "core/scene/loader_detail.h"
+#include "core/scene/scene_generators.h"
 
 namespace oct {
 
@@ -38,7 +39,12 @@ std::string sceneFormatsHelp() {
     std::string out = "Scene file:";
     for (const SceneFormat& f : sceneFormats())
         out += std::string(" .") + f.extension + " (" + f.description + "),";
-    return out + " or a generated grid cloud grid:N[:SEED]";
+    out += " or a generated scene:";
+    const std::vector<SceneGenerator>& gens = sceneGenerators();
+    for (size_t i = 0; i < gens.size(); ++i)
+        out += std::string(" ") + gens[i].usage + " (" + gens[i].description + ")" +
+               (i + 1 < gens.size() ? "," : "");
+    return out;
 }
 
 }  // namespace oct
