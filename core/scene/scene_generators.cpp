@@ -8,6 +8,7 @@
 
 #include "core/scene/grid_cloud.h"
 #include "core/scene/loader_detail.h"
+#include "core/scene/slivers.h"
 
 namespace oct {
 namespace {
@@ -26,11 +27,23 @@ Scene generateGrid(const std::string& spec, const LoadOptions& opts) {
     return makeGridCloud(uint32_t(n), seed);
 }
 
+Scene generateSlivers(const std::string& spec, const LoadOptions&) {
+    uint64_t n = 0, seed = kSliversDefaultSeed;
+    if (!parseCountSpec(spec, std::numeric_limits<uint64_t>::max(), n, seed))
+        throw SceneError("bad generator spec " + inQuotes(spec) +
+                         "; write slivers:N or slivers:N:SEED with decimal N (the number of "
+                         "triangles, even, 2 .. " +
+                         std::to_string(kSliversMaxTriangles) + ") and SEED");
+    return makeSlivers(n, seed);  // a sphere radius does not apply to triangles: ignored
+}
+
 }  // namespace
 
 const std::vector<SceneGenerator>& sceneGenerators() {
     static const std::vector<SceneGenerator> kGenerators = {
         {"grid", "grid:N[:SEED]", "the paper's grid cloud of N spheres", generateGrid},
+        {"slivers", "slivers:N[:SEED]", "a unit square cut into N sliver triangles",
+         generateSlivers},
     };
     return kGenerators;
 }
