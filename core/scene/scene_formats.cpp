@@ -26,13 +26,10 @@ const SceneFormat* findSceneFormat(const std::string& path) {
 }
 
 std::string sceneExtensionList(const std::string& lastJoin) {
-    const std::vector<SceneFormat>& formats = sceneFormats();
-    std::string out;
-    for (size_t i = 0; i < formats.size(); ++i) {
-        if (i > 0) out += i + 1 == formats.size() ? lastJoin : ", ";
-        out += std::string(".") + formats[i].extension;
-    }
-    return out;
+    std::vector<std::string> extensions;
+    for (const SceneFormat& f : sceneFormats())
+        extensions.push_back(std::string(".") + f.extension);
+    return scene_detail::joinList(extensions, lastJoin);
 }
 
 std::string sceneFormatsHelp() {

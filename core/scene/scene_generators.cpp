@@ -58,13 +58,9 @@ const SceneGenerator* findSceneGenerator(const std::string& spec) {
 }
 
 std::string sceneGeneratorList(const std::string& lastJoin) {
-    const std::vector<SceneGenerator>& gens = sceneGenerators();
-    std::string out;
-    for (size_t i = 0; i < gens.size(); ++i) {
-        if (i > 0) out += i + 1 == gens.size() ? lastJoin : ", ";
-        out += gens[i].usage;
-    }
-    return out;
+    std::vector<std::string> usages;
+    for (const SceneGenerator& g : sceneGenerators()) usages.push_back(g.usage);
+    return scene_detail::joinList(usages, lastJoin);
 }
 
 bool parseCountSpec(const std::string& spec, uint64_t maxCount, uint64_t& n, uint64_t& seed) {
