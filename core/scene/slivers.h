@@ -24,7 +24,7 @@
 
 namespace oct {
 
-constexpr uint64_t kSliversMaxTriangles = uint64_t{1} << 22;  // 4,194,304: 150 MiB of triangles
+constexpr uint64_t kSliversMaxTriangles = uint64_t{1} << 22;  // 4,194,304: 144 MiB of triangles
 constexpr uint64_t kSliversDefaultSeed = 1;  // used for the spec "slivers:N" without a seed
 constexpr int kSliversGridBits = 24;         // vertices on the grid of step 2^-24
 constexpr uint32_t kSliversMixLo = 655, kSliversMixHi = 65536 - 655;  // 0.01 .. 0.99 of 2^16

@@ -66,7 +66,7 @@ struct RaySetRng;      // one set's random stream (ray_sets.cpp)
 // in ray_sets.cpp and one row there, with a new id.
 struct RaySetDesc {
     uint8_t id;           // seeds the set's random stream: never renumber
-    const char* name;     // "camera", ..., "tmin-tmax"
+    const char* name;     // "camera", ..., "slivers"
     bool seeded;          // drawn from the seed; false: made from the camera (camera, shadow)
     bool needsTriangles;  // edges, vertices, grazing, tmin-tmax, slivers
     bool needsSlivers;    // slivers: a slivers:N scene (core/scene/slivers.h)
