@@ -10,6 +10,7 @@
 #include "core/io/npy.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
+#include "core/scene/scene_formats.h"
 #include "validation/rays/ray_manifest.h"
 
 namespace oct {
@@ -27,16 +28,16 @@ struct RaysOptions {
     RaysOptions() { camera.size = "256x256"; }
 };
 
-// --set: names or "all" (every set; on a point cloud, those that need no triangles).
+// --set: names or "all" (every set that fits the scene: raySetMisfit).
 std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
                                          std::vector<std::string>& notes) {
     std::vector<const RaySetDesc*> out;
     for (const std::string& name : splitList(text)) {
         if (name == "all") {
             for (const RaySetDesc& kind : standardRaySets()) {
-                if (kind.needsTriangles && scene.kind != PrimKind::Triangles) {
-                    notes.push_back(std::string("set ") + kind.name +
-                                    " left out: it needs a triangle mesh");
+                if (!raySetMisfit(kind, scene).empty()) {
+                    notes.push_back(std::string("set ") + kind.name + " left out: it " +
+                                    raySetMisfit(kind, scene));
                     continue;
                 }
                 if (std::find(out.begin(), out.end(), &kind) == out.end()) out.push_back(&kind);
@@ -123,9 +124,7 @@ void registerRays(CLI::App& app) {
         "rays",
         "Write standard, seeded ray sets (.npy, trace format) and their manifest (.json) for "
         "octrace certify (docs/CERTIFY.md)");
-    cmd->add_option("scene", o->scene,
-                    "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or grid:N[:SEED]")
-        ->required();
+    cmd->add_option("scene", o->scene, sceneFormatsHelp())->required();
     cmd->add_option("--radius", o->radius, "Sphere radius for point clouds (as octrace info)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--set,--sets", o->sets, "Sets, comma-separated: " + raySetNames() + ", or all")

@@ -7,17 +7,15 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <limits>
 #include <new>
 #include <sstream>
 
-#include "core/scene/grid_cloud.h"
 #include "core/scene/loader_detail.h"
 #include "core/scene/scene_formats.h"
+#include "core/scene/scene_generators.h"
 
 namespace oct {
 namespace {
@@ -115,32 +113,6 @@ void checkSceneRange(const Scene& scene) {
                          shortNumber(kMinSphereRadius) + where + " or give a larger --radius");
 }
 
-// "grid:N" or "grid:N:SEED", decimal, nothing else.
-bool parseGridSpec(const std::string& spec, uint32_t& n, uint64_t& seed) {
-    if (toLower(spec.substr(0, 5)) != "grid:") return false;
-    std::string rest = spec.substr(5);
-    size_t colon = rest.find(':');
-    auto number = [&](const std::string& text, uint64_t max, uint64_t& out) {
-        if (text.empty() || text.size() > 20 ||
-            !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
-            return false;
-        errno = 0;
-        unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
-        out = v;
-        return errno == 0 && v <= max;
-    };
-    uint64_t count = 0;
-    seed = kGridCloudDefaultSeed;
-    bool ok = number(rest.substr(0, colon), std::numeric_limits<uint32_t>::max(), count) &&
-              (colon == std::string::npos ||
-               number(rest.substr(colon + 1), std::numeric_limits<uint64_t>::max(), seed));
-    if (!ok)
-        throw SceneError("bad generator spec " + inQuotes(spec) +
-                         "; write grid:N or grid:N:SEED with decimal N (1 .. 4294967295) and SEED");
-    n = uint32_t(count);
-    return true;
-}
-
 // LoadOptions::radius 0 means "none given" (the default rule); a negative or non-finite one is
 // refused. The message shows it in its shortest form (std::to_string wrote 1e38 with 39 digits)
 // and does not suggest 0, which the command line's --radius refuses.
@@ -157,23 +129,16 @@ void checkRadiusOption(const std::string& path, const LoadOptions& opts) {
 Scene loadScene(const std::string& path, const LoadOptions& opts) {
     checkRadiusOption(path, opts);
     try {
-        uint32_t n = 0;
-        uint64_t seed = 0;
-        if (parseGridSpec(path, n, seed)) {
-            if (opts.radius > 0.0f)
-                throw SceneError("a sphere radius cannot be given for " + inQuotes(path) +
-                                 ": the grid cloud's radius is fixed at 0.4 cell so that no "
-                                 "sphere straddles two leaves; leave the radius at 0");
-            return makeGridCloud(n, seed);
-        }
+        if (const SceneGenerator* generator = findSceneGenerator(path))
+            return generator->generate(path, opts);
         checkReadableFile(path);
         const SceneFormat* format = findSceneFormat(path);
         if (!format) {
             const std::string ext = lowerExtension(path);
             throw SceneError("unknown scene format " +
                              (ext.empty() ? "(no extension)" : inQuotes("." + ext)) + " of " +
-                             inQuotes(path) + "; use " + sceneExtensionList(", ") +
-                             " or grid:N[:SEED]");
+                             inQuotes(path) + "; use " + sceneExtensionList(", ") + " or " +
+                             sceneGeneratorList(" or "));
         }
         Scene scene = format->load(path, opts);
         checkSceneRange(scene);

@@ -13,7 +13,8 @@
 //  - .ply with vertices but no faces, and .xyz (whitespace-separated "x y z" per line, further
 //    columns ignored, blank lines and lines starting with '#' skipped): point clouds, each
 //    point a Sphere. Points with a non-finite coordinate are dropped and counted.
-//  - "grid:N" or "grid:N:SEED": the generated grid cloud of grid_cloud.h (seed 1 by default).
+//  - a generator spec of scene_generators.h ("grid:N[:SEED]", the grid cloud of grid_cloud.h;
+//    "slivers:N[:SEED]", the square of slivers.h; seed 1 by default), made, not read.
 //
 // A text file (any but a binary PLY, OFF or STL) may begin with a UTF-8 byte-order mark; it
 // loads exactly as without it. docs/ROBUSTNESS.md lists, per format, what loads, what is
@@ -50,7 +51,7 @@ namespace oct {
 // kMinSceneExtent, twice every triangle's area at least kMinTriangleArea2 and every radius at
 // least kMinSphereRadius (below them products of coordinates underflow: t = 0, or a triangle
 // that can never be hit). Anything else is refused with the value and "rescale". Generated
-// grid clouds lie in the unit cube.
+// scenes lie in the unit cube by construction (grid_cloud.h, slivers.h).
 
 Scene loadScene(const std::string& path, const LoadOptions& opts = {});
 

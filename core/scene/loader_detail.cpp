@@ -22,6 +22,15 @@ std::string lowerExtension(const std::string& path) {
     return toLower(ext.empty() ? ext : ext.substr(1));
 }
 
+std::string joinList(const std::vector<std::string>& items, const std::string& lastJoin) {
+    std::string out;
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (i > 0) out += i + 1 == items.size() ? lastJoin : ", ";
+        out += items[i];
+    }
+    return out;
+}
+
 void trimLine(std::string& s) {
     size_t begin = s.find_first_not_of(" \t\r\n");
     size_t end = s.find_last_not_of(" \t\r\n");

@@ -35,6 +35,8 @@ std::string lowerExtension(const std::string& path);  // "" when the path has no
 void trimLine(std::string& s);                        // the same trim as OpenMesh's OBJ/STL readers
 std::ifstream openOrThrow(const std::string& path, std::ios::openmode mode = std::ios::in);
 uint64_t fileSize(const std::string& path);
+// "a, b or c" for lastJoin " or ": the help text's and messages' lists.
+std::string joinList(const std::vector<std::string>& items, const std::string& lastJoin);
 
 // Text files may begin with a UTF-8 byte-order mark (Windows editors write one). It is not
 // part of the first line's text: stripUtf8Bom removes it from the start of `firstLine` and

@@ -2,6 +2,7 @@
 #include "core/scene/scene_formats.h"
 
 #include "core/scene/loader_detail.h"
+#include "core/scene/scene_generators.h"
 
 namespace oct {
 
@@ -25,20 +26,22 @@ const SceneFormat* findSceneFormat(const std::string& path) {
 }
 
 std::string sceneExtensionList(const std::string& lastJoin) {
-    const std::vector<SceneFormat>& formats = sceneFormats();
-    std::string out;
-    for (size_t i = 0; i < formats.size(); ++i) {
-        if (i > 0) out += i + 1 == formats.size() ? lastJoin : ", ";
-        out += std::string(".") + formats[i].extension;
-    }
-    return out;
+    std::vector<std::string> extensions;
+    for (const SceneFormat& f : sceneFormats())
+        extensions.push_back(std::string(".") + f.extension);
+    return scene_detail::joinList(extensions, lastJoin);
 }
 
 std::string sceneFormatsHelp() {
     std::string out = "Scene file:";
     for (const SceneFormat& f : sceneFormats())
         out += std::string(" .") + f.extension + " (" + f.description + "),";
-    return out + " or a generated grid cloud grid:N[:SEED]";
+    out += " or a generated scene:";
+    const std::vector<SceneGenerator>& gens = sceneGenerators();
+    for (size_t i = 0; i < gens.size(); ++i)
+        out += std::string(" ") + gens[i].usage + " (" + gens[i].description + ")" +
+               (i + 1 < gens.size() ? "," : "");
+    return out;
 }
 
 }  // namespace oct

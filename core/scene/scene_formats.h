@@ -30,8 +30,8 @@ const SceneFormat* findSceneFormat(const std::string& path);
 // The extensions with their dots, joined: ".obj, .ply, .off, .stl or .xyz" for lastJoin " or ".
 std::string sceneExtensionList(const std::string& lastJoin);
 
-// Help text of a command's scene argument: every format with its description, and the
-// generated grid cloud.
+// Help text of a command's scene argument: every format with its description, and every
+// generated scene of scene_generators.h.
 std::string sceneFormatsHelp();
 
 }  // namespace oct

@@ -123,6 +123,49 @@ TEST_F(CertifyCli, OwnTraceOfSphereScenesPasses) {
     }
 }
 
+// The slivers scene and its must-hit set through the command line: hits at the targets pass
+// without primitive ids, the same with the edge rows missing fail with exactly those leaks, and
+// octrace's own trace hits every row. Other scenes refuse the set or leave it out of `all`.
+TEST_F(CertifyCli, SliversRaysMustAllHit) {
+    const std::string scene = "slivers:2000";
+    RunResult r = run("rays " + scene + " --set slivers --count 2000 --out " + q("R.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    nlohmann::json manifest = nlohmann::json::parse(octtest::readFile(work_ / "R.json"));
+    EXPECT_EQ(manifest["scene"]["name"], "slivers:2000:1");
+    ASSERT_EQ(manifest["sets"].size(), 1u);
+    EXPECT_EQ(manifest["sets"][0]["name"], "slivers");
+    // Every row's target is where it crosses z = 0: answer exactly that.
+    const std::vector<float> rays = readArray<float>("R.npy");
+    std::vector<float> t(rays.size() / 8);
+    for (size_t i = 0; i < t.size(); ++i) t[i] = float(-double(rays[8 * i + 2]) / rays[8 * i + 5]);
+    writeNpy("H.t.npy", "<f4", {t.size()}, t.data(), 4);
+    r = run(certify(scene) + " --no-prim --json -");
+    ASSERT_EQ(r.status, 0) << show(r);
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["result"]["leak_checked"], 2000);
+    EXPECT_EQ(j["leaks"], 0);
+    for (size_t i = 2; i < t.size(); i += 4) t[i] = INFINITY;  // the rows aimed at an edge
+    writeNpy("H.t.npy", "<f4", {t.size()}, t.data(), 4);
+    r = run(certify(scene) + " --no-prim --json -");
+    EXPECT_EQ(r.status, 1) << show(r);
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["leaks"], 500);
+    EXPECT_NE(r.err.find("500 leaks (in slivers)"), std::string::npos) << show(r);
+
+    r = run("trace " + scene + " --rays " + q("R.npy") + " --out " + q("O") +
+            " --backend cpu --accel linear");
+    ASSERT_EQ(r.status, 0) << show(r);
+    for (float v : readArray<float>("O.t.npy")) ASSERT_TRUE(std::isfinite(v));
+
+    r = run("rays " + quote(kCube) + " --set slivers --out " + q("C.npy"));
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("needs a generated slivers:N scene"), std::string::npos) << show(r);
+    r = run("rays " + quote(kCube) + " --count 90 --size 8x8 --out " + q("C.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_NE(r.out.find("set slivers left out: it needs a slivers:N scene"), std::string::npos)
+        << show(r);
+}
+
 TEST_F(CertifyCli, ValidatesRaysAreTheStandardSetsByteForByte) {
     RunResult r = run("rays " + quote(kTeapot) + " --set around,inside,axis --count 300 --seed 7" +
                       " --out " + q("V.npy"));

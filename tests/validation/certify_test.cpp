@@ -22,11 +22,11 @@ namespace {
 
 using octtest::meshPath;
 
-// Every standard set a mesh offers, small: camera 24x24 with its shadow rays, 2800 seeded rays.
+// Every standard set the scene takes, small: camera 24x24 with its shadow rays, 2800 seeded rays.
 RaySet standardRays(const Scene& scene, uint64_t count = 2800) {
     RaySetSpec spec;
     for (const RaySetDesc& k : standardRaySets())
-        if (!k.needsTriangles || scene.kind == PrimKind::Triangles) spec.sets.push_back(&k);
+        if (raySetMisfit(k, scene).empty()) spec.sets.push_back(&k);
     spec.count = count;
     spec.seed = 9;
     spec.camera.width = spec.camera.height = 24;

@@ -1,6 +1,7 @@
 #include "validation/rays/ray_sets.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -10,6 +11,7 @@
 #include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
 #include "core/scene/mesh_topology.h"
+#include "core/scene/slivers.h"
 
 namespace oct {
 namespace {
@@ -18,6 +20,9 @@ namespace {
 constexpr double kSealMargin = 1e-5;
 constexpr double kEdgeMinCos = 0.1, kVertexMinCos = 0.05;
 constexpr int kAttemptsPerRay = 200;
+// The slivers set: |cos(ray, normal)| = u^2, u in [kSliversMinSqrtCos, 1]; origins this far.
+constexpr double kSliversMinSqrtCos = 0.1;
+constexpr double kSliversNear = 0.25, kSliversFar = 2.0;
 
 uint64_t splitmix64(uint64_t x) {
     x += 0x9E3779B97F4A7C15ull;
@@ -46,6 +51,7 @@ struct RaySetContext {
     std::optional<MeshTopology> topo;
     std::vector<uint32_t> interiorEdges, fanVertices;
     std::vector<std::vector<uint32_t>> links;  // per fan vertex
+    std::vector<double> cumulativeArea;        // slivers: running sum of the triangles' areas
 };
 
 namespace {
@@ -389,6 +395,89 @@ void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     }
 }
 
+// A triangle with probability proportional to its area (so that pointOn is uniform over all).
+size_t areaWeighted(Context& c, Rng& rng) {
+    std::vector<double>& sum = c.cumulativeArea;
+    if (sum.empty()) {
+        double total = 0.0;
+        for (const Triangle& tri : c.scene.triangles)
+            sum.push_back(total += length(triangleNormal(tri)));
+    }
+    const size_t k =
+        size_t(std::upper_bound(sum.begin(), sum.end(), rng.u01() * sum.back()) - sum.begin());
+    return std::min(k, sum.size() - 1);
+}
+
+// The edge (welded ids, a < b) of triangle k nearest to p, in the plane z = const.
+void nearestEdge(const Context& c, size_t k, Vec3 p, uint32_t& a, uint32_t& b) {
+    const std::array<uint32_t, 3>& cs = c.topo->corners[k];
+    auto at = [&](uint32_t v) { return P2{c.topo->vertices[v].x, c.topo->vertices[v].y}; };
+    const P2 q{p.x, p.y};
+    double best = INFINITY;
+    for (int e = 0; e < 3; ++e) {
+        const double d = segmentDistance(q, at(cs[e]), at(cs[(e + 1) % 3]));
+        if (d < best) {
+            best = d;
+            a = std::min(cs[e], cs[(e + 1) % 3]);
+            b = std::max(cs[e], cs[(e + 1) % 3]);
+        }
+    }
+}
+
+// Aimed at a point of a slivers square; kept when the float ray crosses the plane inside it.
+void slivers(Context& c, Rng& rng, uint64_t n, RaySet& out) {
+    prepareTopology(c);
+    const MeshTopology& t = *c.topo;
+    const Aabb& square = c.bounds;  // [0,1]^2 in the plane z = 0
+    for (uint64_t i = 0; i < n; ++i) {
+        bool placed = false;
+        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+            Vec3 p;
+            uint32_t a = 0, b = 0;
+            if (i % 4 == 2) {  // on an interior edge
+                const MeshEdge& e = t.edges[c.interiorEdges[rng.below(c.interiorEdges.size())]];
+                const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
+                p = va + (vb - va) * float(rng.u01());
+                a = e.a;
+                b = e.b;
+            } else if (i % 4 == 3) {  // at an interior vertex
+                a = b = c.fanVertices[rng.below(c.fanVertices.size())];
+                p = t.vertices[a];
+            } else {  // uniform in the square
+                const size_t k = areaWeighted(c, rng);
+                p = pointOn(rng, c.scene.triangles[k]);
+                nearestEdge(c, k, p, a, b);
+            }
+            // Three draws, one statement each (the operands of one expression may be evaluated
+            // in any order): the slope, the azimuth by rejection from the square, the side.
+            const double root = rng.range(kSliversMinSqrtCos, 1.0);
+            const double cosine = root * root;
+            double gx, gy, g2;
+            do {
+                gx = 2.0 * rng.u01() - 1.0;
+                gy = 2.0 * rng.u01() - 1.0;
+                g2 = gx * gx + gy * gy;
+            } while (!(g2 > 1e-6 && g2 <= 1.0));
+            const double along = std::sqrt((1.0 - cosine * cosine) / g2);
+            const double side = rng.below(2) ? 1.0 : -1.0;
+            const Vec3 d = {float(gx * along), float(gy * along), float(side * cosine)};
+            const float r = float(rng.range(kSliversNear, kSliversFar));
+            const Vec3 o = p - d * r;
+            const Vec3 dir = normalize(p - o);
+            if (!(dir.z != 0.0f)) continue;
+            const double tt = (double(square.lo.z) - double(o.z)) / double(dir.z);
+            const double x = double(o.x) + tt * double(dir.x), y = double(o.y) + tt * double(dir.y);
+            if (!(tt > 0.0) || x < square.lo.x + c.margin || x > square.hi.x - c.margin ||
+                y < square.lo.y + c.margin || y > square.hi.y - c.margin)
+                continue;
+            out.targets.push_back({out.count(), tt, a, b, t.vertices[a], t.vertices[b]});
+            push(out, o, dir, 0.0f, INFINITY);
+            placed = true;
+        }
+        if (!placed) notPlaced(c, "slivers", i, n);
+    }
+}
+
 void cameraRays(const FrameParams& f, RaySet& out) {
     for (int y = 0; y < f.height; ++y)
         for (int x = 0; x < f.width; ++x) {
@@ -429,17 +518,19 @@ void shadow(Context& c, Rng&, uint64_t, RaySet& out) {
 }  // namespace
 
 const std::vector<RaySetDesc>& standardRaySets() {
-    // id, name, seeded, needs triangles, needs a reference, adversarial, generator, any-hit
+    // id, name, seeded, needs triangles, needs slivers, needs a reference, adversarial,
+    // generator, any-hit
     static const std::vector<RaySetDesc> table = {
-        {0, "camera", false, false, false, false, camera},
-        {1, "shadow", false, false, true, false, shadow, true},
-        {2, "around", true, false, false, false, around},
-        {3, "inside", true, false, false, false, inside},
-        {4, "axis", true, false, false, false, axis},
-        {5, "edges", true, true, false, true, edges},
-        {6, "vertices", true, true, false, true, vertices},
-        {7, "grazing", true, true, false, true, grazing},
-        {8, "tmin-tmax", true, true, false, true, tminTmax},
+        {0, "camera", false, false, false, false, false, camera},
+        {1, "shadow", false, false, false, true, false, shadow, true},
+        {2, "around", true, false, false, false, false, around},
+        {3, "inside", true, false, false, false, false, inside},
+        {4, "axis", true, false, false, false, false, axis},
+        {5, "edges", true, true, false, false, true, edges},
+        {6, "vertices", true, true, false, false, true, vertices},
+        {7, "grazing", true, true, false, false, true, grazing},
+        {8, "tmin-tmax", true, true, false, false, true, tminTmax},
+        {9, "slivers", true, true, true, false, true, slivers},
     };
     return table;
 }
@@ -455,6 +546,12 @@ std::string raySetNames() {
     for (const RaySetDesc& k : standardRaySets())
         s += (s.empty() ? "" : ", ") + std::string(k.name);
     return s;
+}
+
+std::string raySetMisfit(const RaySetDesc& k, const Scene& scene) {
+    if (k.needsTriangles && scene.kind != PrimKind::Triangles) return "needs a triangle mesh";
+    if (k.needsSlivers && !isSliversScene(scene)) return "needs a slivers:N scene";
+    return "";
 }
 
 const RaySetRange* RaySet::find(const std::string& name) const {
@@ -490,11 +587,16 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
             throw std::invalid_argument("ray set '" + std::string(k->name) +
                                         "' needs a triangle mesh; '" + scene.name +
                                         "' is a point cloud");
+        if (k->needsSlivers && !isSliversScene(scene))
+            throw std::invalid_argument("ray set '" + std::string(k->name) +
+                                        "' needs a generated slivers:N scene, where every ray "
+                                        "must hit; '" +
+                                        scene.name + "' is not one (try slivers:2000)");
         if (k->needsReference && !reference)
             throw std::invalid_argument("ray set '" + std::string(k->name) +
                                         "' needs a reference tracer for the camera hits");
     }
-    Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {},
+    Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {}, {},
               {},    {},          {}};
     c.centre = c.bounds.center();
     c.radius = 0.5f * length(c.bounds.extent());

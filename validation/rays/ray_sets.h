@@ -21,13 +21,20 @@
 //  grazing   through a point inside a triangle at |cos(ray, normal)| between 5e-7 and 3e-2;
 //  tmin-tmax through a point inside a triangle at |cos| >= 0.2, in four variants by row: the
 //            ray starts at the point (tmin 0); tmax is exactly the distance to the triangle's
-//            plane; tmin is exactly that distance; tmax is one float below it.
+//            plane; tmin is exactly that distance; tmax is one float below it;
+//  slivers   on a slivers:N scene only (core/scene/slivers.h): aimed at a point of its square,
+//            by row two in four uniform in the square, one on an interior edge (a parameter in
+//            [0, 1], computed in float), one at an interior vertex; from above or below, at
+//            |cos(ray, normal)| = u^2 for u uniform in [0.1, 1], 0.25 to 2 away. Kept when the
+//            stored float ray meets the plane at least 1e-5 x the extent inside the square:
+//            the target is that crossing (t in double), and every ray must hit.
 //
 // An edges or vertices ray is *sealed*: seen along the ray, the two triangles of its edge (the
 // fan of its vertex) cover a disc of radius 1e-5 x the scene's extent around the target point,
 // and every one of them meets the ray at |cos| >= 0.1 (edges) or 0.05 (vertices). A tracer
 // without cracks must therefore hit at or before the target (certify's leak check, certify.h),
-// whatever the rest of the mesh is; directions that are not sealed are drawn again.
+// whatever the rest of the mesh is; directions that are not sealed are drawn again. A slivers
+// ray is sealed by the square itself: flat, and covered by its triangles without a gap.
 //
 // Same seed, same bytes, on every machine: each seeded set draws from its own std::mt19937_64
 // stream, seeded with splitmix64(seed + 0x9E3779B97F4A7C15 x (set id + 1)), using its raw output
@@ -59,11 +66,12 @@ struct RaySetRng;      // one set's random stream (ray_sets.cpp)
 // in ray_sets.cpp and one row there, with a new id.
 struct RaySetDesc {
     uint8_t id;           // seeds the set's random stream: never renumber
-    const char* name;     // "camera", ..., "tmin-tmax"
+    const char* name;     // "camera", ..., "slivers"
     bool seeded;          // drawn from the seed; false: made from the camera (camera, shadow)
-    bool needsTriangles;  // edges, vertices, grazing, tmin-tmax
+    bool needsTriangles;  // edges, vertices, grazing, tmin-tmax, slivers
+    bool needsSlivers;    // slivers: a slivers:N scene (core/scene/slivers.h)
     bool needsReference;  // starts at a reference tracer's camera hits (shadow): not rebuilt
-    // Built from edge cases on purpose (edges, vertices, grazing, tmin-tmax): nearly every ray is
+    // Built from edge cases on purpose (all but the first five): nearly every ray is
     // touchy, so ambiguous answers are expected there and do not count against the rate.
     bool adversarial;
     // Appends the set's rows (`n`: the seeded sets' share; the camera sets make their own count).
@@ -74,7 +82,10 @@ struct RaySetDesc {
 
 const std::vector<RaySetDesc>& standardRaySets();       // in `--set all` order
 const RaySetDesc* findRaySet(const std::string& name);  // null for another name
-std::string raySetNames();                              // "camera, shadow, ..., tmin-tmax"
+std::string raySetNames();                              // "camera, shadow, ..., slivers"
+// Why set k cannot be made on `scene` ("needs a triangle mesh", "needs a slivers:N scene"), or ""
+// when it can: `--set all` leaves such sets out, naming them.
+std::string raySetMisfit(const RaySetDesc& k, const Scene& scene);
 
 // Rows [begin, begin + count) of a ray file belong to the set `name`.
 struct RaySetRange {
@@ -82,19 +93,23 @@ struct RaySetRange {
     uint64_t begin = 0, count = 0;
 };
 
-// The target of an edges or vertices ray, for the leak check.
+// The target of an edges, vertices or slivers ray, for the leak check.
 struct RayTarget {
     uint64_t row = 0;
-    double t = 0.0;         // the ray parameter nearest to the target point (double, float ray)
-    uint32_t a = 0, b = 0;  // welded vertex ids (mesh_topology.h): the edge a < b; a vertex a == b
-    Vec3 pa{}, pb{};        // their positions
+    // The ray parameter nearest to the target point (double, float ray); slivers: where the
+    // float ray meets the square's plane.
+    double t = 0.0;
+    // Welded vertex ids (mesh_topology.h): the edge a < b; a vertex a == b. A slivers ray aimed
+    // inside a triangle names the triangle's edge nearest to its point.
+    uint32_t a = 0, b = 0;
+    Vec3 pa{}, pb{};  // their positions
     bool vertex() const { return a == b; }
 };
 
 struct RaySet {
     std::vector<float> rays;           // N x 8: ox oy oz dx dy dz tmin tmax
     std::vector<RaySetRange> sets;     // contiguous, in file order, covering every row
-    std::vector<RayTarget> targets;    // edges and vertices rows, ascending row
+    std::vector<RayTarget> targets;    // edges, vertices and slivers rows, ascending row
     std::optional<FrameParams> frame;  // when there is a camera or shadow set
     uint64_t count() const { return rays.size() / 8; }
     Ray ray(uint64_t i) const {
@@ -118,8 +133,9 @@ uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k);
 // passes Embree from the backend list). May be empty when there is no shadow set.
 using TraceBatch = std::function<void(RayBatchView)>;
 
-// Throws std::invalid_argument for a null or repeated set, a triangle-only set on a point cloud,
-// a shadow set without a reference, or a mesh offering no target (no shared edge, no closed fan).
+// Throws std::invalid_argument for a null or repeated set, a set that does not fit the scene
+// (raySetMisfit), a shadow set without a reference, or a mesh offering no target (no shared
+// edge, no closed fan).
 RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& reference = {});
 
 // validate's seeded sets: around, inside, axis, N split evenly.

@@ -8,6 +8,7 @@
 #include "core/io/output_file.h"
 #include "core/octree/built_scene.h"
 #include "core/scene/load_scene.h"
+#include "core/scene/scene_generators.h"
 
 namespace oct {
 namespace {
@@ -15,7 +16,7 @@ namespace {
 using nlohmann::json;
 using regression_detail::field;
 
-bool isGenerated(const std::string& scene) { return scene.rfind("grid:", 0) == 0; }
+bool isGenerated(const std::string& scene) { return findSceneGenerator(scene) != nullptr; }
 
 }  // namespace
 
