@@ -215,9 +215,9 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         const uint64_t i = recheck[k];
         const Ray ray = rays.ray(i);
         Hit o = judged(c, ours, i, ray, ref.at(i));
-        if (o.prim == kUnknownPrim) {  // --no-prim: the primitive nearest the reported point
-            double dist;
-            o.prim = c.truth().nearestTo(c.hitPoint(ray, o.t), dist);
+        if (o.prim == kUnknownPrim) {  // --no-prim: the primitive the reported point is on
+            bool on;
+            o.prim = c.surfacePrimitive(ray, o.t, on);
         }
         inferred[k] = o.prim;
         verdict[k] = anyHit[i] ? c.recheckAnyHit(ray, o) : c.recheckClosest(ray, o);
@@ -245,8 +245,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const float t = ours.t[tg.row];
             Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
             if (!ours.primIds && o.prim >= 0 && !c.malformed(ray, o)) {
-                double dist;
-                o.prim = c.truth().nearestTo(c.hitPoint(ray, t), dist);
+                bool on;
+                o.prim = c.surfacePrimitive(ray, t, on);
             }
             const bool sealedHere =
                 o.prim >= 0 && c.onSurface(ray, o) && double(t) <= tg.t + tTolerance(c, ray);

@@ -49,9 +49,42 @@ OCT_HD inline ShearedRay makeShearedRay(Vec3 org, Vec3 dir) {
     return r;
 }
 
+// The hit's t recomputed in double by the same steps as intersectTriangle (translate, shear,
+// edge functions, scaled distance), on the same float inputs: for a hit whose float t is
+// ill-conditioned (a sliver, a grazing ray), see intersectTriangle. False when the double
+// determinant is zero (the float t is kept then).
+OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, double& t) {
+    const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
+    double x[3], y[3], z[3];
+    for (int i = 0; i < 3; ++i) {
+        const double pz = double(v[i][r.kz]) - double(r.org[r.kz]);
+        x[i] = (double(v[i][r.kx]) - double(r.org[r.kx])) - double(r.sx) * pz;
+        y[i] = (double(v[i][r.ky]) - double(r.org[r.ky])) - double(r.sy) * pz;
+        z[i] = double(r.sz) * pz;
+    }
+    const double u = x[2] * y[1] - y[2] * x[1];
+    const double w = x[1] * y[0] - y[1] * x[0];
+    const double v2 = x[0] * y[2] - y[0] * x[2];
+    const double det = u + v2 + w;
+    if (det == 0.0) return false;
+    t = (u * z[0] + v2 * z[1] + w * z[2]) / det;
+    return true;
+}
+
+// The relative error of t above which intersectTriangle recomputes it in double: 2^-20, some
+// 16 float ulps, where a well-shaped triangle's t is off by a few.
+constexpr float kTriangleRefine = 0x1p-20f;
+
 // Returns true and the distance t when the ray hits the triangle with tmin <= t <= tmax.
 // Both faces count. Edge functions that are exactly zero are recomputed in double, as Woop,
 // Benthin & Wald (2013) prescribe, so a ray through a shared edge hits at least one of the two.
+// Which triangles are hit is decided in float, so that two triangles sharing an edge compute
+// its edge function alike (watertightness). The distance of a hit is recomputed in double when
+// its float error bound exceeds kTriangleRefine relative: the edge functions' error (Pharr,
+// Jakob & Humphreys, PBRT 3rd ed., sec. 3.9.6: delta_e, grown by the sheared z as shear and
+// translation round) moves t by at most 3 delta_e / |det| times the vertices' spread in z
+// around t, which slivers and grazing rays make large (docs/VALIDATION.md, "The surface
+// bound").
 OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, float tmin,
                                      float tmax, float& tHit) {
     Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
@@ -71,13 +104,28 @@ OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, f
     if (det == 0.0f) return false;  // degenerate in the ray's projection, or the ray in its plane
     float az = r.sz * a[r.kz], bz = r.sz * b[r.kz], cz = r.sz * c[r.kz];
     float tScaled = u * az + v * bz + w * cz;
-    // Compare t*det against the range without dividing, as in the paper; then divide once.
-    if (det < 0.0f) {
+    tHit = tScaled / det;
+    // The error estimate, in float without another division: 3 delta_e x the spread of z around
+    // t against kTriangleRefine x |t det|. gamma(n) ~ n 2^-24 (the 1 - n u denominators only
+    // round it). An ill-conditioned t is judged against the range only once recomputed, so that
+    // the order primitives are tested in cannot change which of two at the same t is kept.
+    const float maxX = maxf(maxf(fabsf(ax), fabsf(bx)), fabsf(cx));
+    const float maxY = maxf(maxf(fabsf(ay), fabsf(by)), fabsf(cy));
+    const float maxZ = maxf(maxf(fabsf(az), fabsf(bz)), fabsf(cz));
+    const float spread = maxf(maxf(fabsf(az - tHit), fabsf(bz - tHit)), fabsf(cz - tHit));
+    const float eps = 0x1p-24f;
+    const float dx = 5.0f * eps * (maxX + maxZ), dy = 5.0f * eps * (maxY + maxZ);
+    const float de = 2.0f * (2.0f * eps * maxX * maxY + dy * maxX + dx * maxY);
+    if (3.0f * de * spread > kTriangleRefine * fabsf(tScaled)) {
+        double t;
+        if (triangleTInDouble(r, tri, t)) tHit = float(t);
+    } else if (det < 0.0f) {
+        // Compare t*det against the range as the paper does (the division above is only used
+        // once this passes).
         if (tScaled > tmin * det || tScaled < tmax * det) return false;
     } else {
         if (tScaled < tmin * det || tScaled > tmax * det) return false;
     }
-    tHit = tScaled / det;
     // tScaled grows as the cube of the coordinates: past float range it is +inf and so is tHit,
     // which the range test above lets through when tmax is +inf. Never a hit at +inf (inside
     // the numeric range of numeric_range.h it cannot happen; outside it, no answer is a lie).

@@ -203,9 +203,11 @@ DoubleTracer::DoubleTracer(const Scene& scene, TouchTolerance tol)
             for (const DVec3& p : v) r = std::max(r, length(p - c));
             boundCentre_[i] = c;
             boundRadius_[i] = r * (1.0 + 1e-12);
+            largestDiameter_ = std::max(largestDiameter_, diameter(i));
         } else {
             boundCentre_[i] = toDouble(scene.spheres[i].center);
             boundRadius_[i] = double(scene.spheres[i].radius);
+            largestDiameter_ = std::max(largestDiameter_, 2.0 * boundRadius_[i]);
         }
     }
 }

@@ -77,8 +77,20 @@ public:
     // 3rd ed., sec. 3.9.6, "Conservative ray-triangle intersection"), evaluated on the exact
     // sheared coordinates; +inf when the ray is parallel to the triangle's plane. 0 for spheres.
     double floatTError(uint32_t prim, const DoubleRay& r) const;
-    // The longest side of a triangle, the diameter of a sphere.
+    // The longest side of a triangle, the diameter of a sphere; the largest over the scene.
     double diameter(uint32_t prim) const;
+    double largestDiameter() const { return largestDiameter_; }
+    // Calls f(prim) for every primitive whose box lies within `radius` of p (a superset of those
+    // whose surface does).
+    template <class F>
+    void primitivesNear(DVec3 p, double radius, F&& f) const {
+        const double q[3] = {p.x, p.y, p.z};
+        double r = radius;
+        bvh_.nearest(q, r, [&](uint32_t i) {
+            f(i);
+            return radius;  // keep the radius: every box within it is visited
+        });
+    }
     // The primitive whose surface is nearest to p (lowest id among equals); `dist` receives the
     // distance. -1 for a scene without primitives.
     int32_t nearestTo(DVec3 p, double& dist) const;
@@ -111,6 +123,7 @@ private:
     double sceneRadius_;
     std::vector<DVec3> boundCentre_;  // per primitive: a bounding sphere for the near filter
     std::vector<double> boundRadius_;
+    double largestDiameter_ = 0.0;
     double pad_;  // the BVH's growth of every box (at least the tolerance's touch distance)
     BoxBvh bvh_;  // over the primitives' boxes grown by pad_
 };

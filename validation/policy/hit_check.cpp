@@ -89,6 +89,33 @@ double HitClassifier::relativeDt(Hit a, Hit b, float dirLength) const {
     return std::fabs(double(a.t) - double(b.t)) * double(dirLength) / extent_;
 }
 
+int32_t HitClassifier::surfacePrimitive(const Ray& ray, float t, bool& on) const {
+    const DVec3 p = hitPoint(ray, t);
+    double nearestDist;
+    const int32_t nearest = truth_.nearestTo(p, nearestDist);
+    on = false;
+    if (nearest < 0) return -1;
+    if (nearestDist <= surfaceBound(ray, nearest)) {
+        on = true;
+        return nearest;
+    }
+    // Another primitive's bound may be larger (a sliver, a grazing ray): any primitive the
+    // point is on lies within the largest bound a primitive can have of it.
+    int32_t best = -1;
+    double bestDist = INFINITY;
+    const double radius = std::max(surfaceBound(ray), truth_.largestDiameter());
+    truth_.primitivesNear(p, radius, [&](uint32_t i) {
+        const double d = truth_.distanceTo(i, p);
+        if (d <= surfaceBound(ray, int32_t(i)) &&
+            (d < bestDist || (d == bestDist && int32_t(i) < best))) {
+            bestDist = d;
+            best = int32_t(i);
+        }
+    });
+    on = best >= 0;
+    return on ? best : nearest;
+}
+
 bool HitClassifier::tieHolds(const Ray& ray, Hit ours) const { return onSurface(ray, ours); }
 
 HitClass HitClassifier::compare(const Ray& ray, Hit ours, Hit reference) const {

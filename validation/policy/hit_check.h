@@ -89,6 +89,10 @@ public:
     // The rule: a well-formed hit inside [tmin, tmax] whose point lies within surfaceBound of
     // its primitive. O(1).
     bool onSurface(const Ray& ray, Hit h) const;
+    // Without a primitive id (certify --no-prim): the primitive a hit at t is on, the nearest
+    // to its point among those it lies within the bound of (lowest id among equals); when it
+    // is on none, the nearest primitive, and `on` is false. -1 for a scene without primitives.
+    int32_t surfacePrimitive(const Ray& ray, float t, bool& on) const;
     // A different primitive at the same t is a tie only when our hit is on our primitive: a
     // shared edge or vertex, or surfaces crossing there.
     bool tieHolds(const Ray& ray, Hit ours) const;
