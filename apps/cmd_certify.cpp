@@ -97,7 +97,7 @@ void runCertify(const CertifyCliOptions& o) {
         std::fprintf(human, "wrote    %s\n", o.diffImage.c_str());
     }
     std::fflush(stdout);
-    if (!rep.passes()) throw std::runtime_error(failure(rep));
+    if (!rep.passes()) throw CommandVerdict(kExitFail, failure(rep));
 }
 
 }  // namespace
@@ -112,7 +112,8 @@ void registerCertify(CLI::App& app) {
     cmd->add_option("--radius", o->radius,
                     "Sphere radius for point clouds (default: the manifest's, else as octrace "
                     "info)")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteNumber())
+        ->check(positiveRadius());
     cmd->add_option("--rays", o->rays,
                     "Ray file R.npy, float32 (N, 8); its manifest R.json is read when present")
         ->required();
@@ -127,7 +128,7 @@ void registerCertify(CLI::App& app) {
     addPolicyOptions(*cmd, o->policy, "per set");
     cmd->add_option("--threads", o->threads,
                     "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::Range(1, 4096));
+        ->check(numberIn(1, 4096));
     cmd->callback([o] { runCertify(*o); });
 }
 

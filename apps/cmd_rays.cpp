@@ -62,9 +62,6 @@ void runRays(const RaysOptions& o) {
     spec.camera = cameraOptions(o.camera);
     spec.count = o.count;
     spec.seed = o.seed;
-    if (o.count > kMaxRays)
-        throw std::runtime_error("--count " + std::to_string(o.count) + " is more than " +
-                                 std::to_string(kMaxRays) + " rays; use fewer");
     const std::string manifestPath = manifestPathFor(o.out);
     checkOutputPaths({o.out, manifestPath, o.triangles}, {o.scene});
     for (const std::string& p : {o.out, manifestPath, o.triangles})
@@ -127,14 +124,18 @@ void registerRays(CLI::App& app) {
                     "Scene file (.obj .ply .off .stl, point cloud .ply .xyz) or grid:N[:SEED]")
         ->required();
     cmd->add_option("--radius", o->radius, "Sphere radius for point clouds (as octrace info)")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteNumber())
+        ->check(positiveRadius());
     cmd->add_option("--set,--sets", o->sets, "Sets, comma-separated: " + raySetNames() + ", or all")
         ->capture_default_str();
     cmd->add_option("--count", o->count,
                     "Rays over the seeded sets together (all but camera and shadow), split "
                     "evenly; at most 1e8")
-        ->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Seed of the seeded sets")->capture_default_str();
+        ->capture_default_str()
+        ->check(numberIn(0, double(kMaxRays)));
+    cmd->add_option("--seed", o->seed, "Seed of the seeded sets")
+        ->capture_default_str()
+        ->check(finiteNumber());
     cmd->add_option("--out", o->out, "Ray file R.npy; the manifest goes to R.json")->required();
     cmd->add_option("--triangles", o->triangles,
                     "Also write the triangles as octrace numbers them: float32 (M, 9) .npy");
