@@ -60,7 +60,10 @@ void runCertify(const CertifyCliOptions& o) {
                                  "with octrace rays)");
     HitArrays hits = readHitFiles(o.hits, n, o.rays, !o.noPrim);
     std::optional<RayManifest> manifest;
-    if (haveManifest) manifest = readManifest(manifestPath);
+    if (haveManifest) {
+        manifest = readManifest(manifestPath);
+        checkManifestRows(*manifest, n, o.rays);  // before the scene is loaded
+    }
 
     LoadOptions lo;
     lo.radius = o.radius > 0.0f ? o.radius : (manifest && manifest->radius ? *manifest->radius : 0);
@@ -69,11 +72,7 @@ void runCertify(const CertifyCliOptions& o) {
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
     std::vector<std::string> notes;
-    if (manifest && manifest->primitives != scene.primitiveCount())
-        throw std::runtime_error("'" + o.scene + "' has " + std::to_string(scene.primitiveCount()) +
-                                 " primitives, but the rays were made for '" + manifest->scene +
-                                 "' with " + std::to_string(manifest->primitives) +
-                                 " (its manifest " + manifestPath + ")");
+    if (manifest) checkSameScene(*manifest, scene, o.rays);  // before a set is rebuilt
     RaySet rays = raySetFromFile(scene, std::move(rows), manifest, o.rays, notes);
     if (!o.diffImage.empty() && !rays.find("camera"))
         throw std::runtime_error(

@@ -16,7 +16,7 @@ namespace oct {
 namespace {
 
 // Same bound as validate's --rays: 8 floats a ray plus the answers of a tracer.
-constexpr uint64_t kMaxRays = 100000000;
+constexpr uint64_t kMaxRays = kMaxSeededRays;
 
 struct RaysOptions {
     std::string scene;
