@@ -27,29 +27,41 @@ struct RaysOptions {
     RaysOptions() { camera.size = "256x256"; }
 };
 
-// --set: names or "all" (every set; on a point cloud, those that need no triangles).
+// --set: names or "all" (every set the scene can make: on a point cloud those that need no
+// triangles, on a mesh without a shared edge or a closed fan no edges or vertices set, each
+// left out with a note). A set named explicitly that the scene cannot make is refused.
 std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
                                          std::vector<std::string>& notes) {
-    std::vector<const RaySetDesc*> out;
+    std::vector<const RaySetDesc*> listed;
+    std::vector<bool> named;  // given by name, not by "all"
     for (const std::string& name : splitList(text)) {
         if (name == "all") {
-            for (const RaySetDesc& kind : standardRaySets()) {
-                if (kind.needsTriangles && scene.kind != PrimKind::Triangles) {
-                    notes.push_back(std::string("set ") + kind.name +
-                                    " left out: it needs a triangle mesh");
-                    continue;
+            for (const RaySetDesc& kind : standardRaySets())
+                if (std::find(listed.begin(), listed.end(), &kind) == listed.end()) {
+                    listed.push_back(&kind);
+                    named.push_back(false);
                 }
-                if (std::find(out.begin(), out.end(), &kind) == out.end()) out.push_back(&kind);
-            }
             continue;
         }
         const RaySetDesc* k = findRaySet(name);
         if (!k)
             throw CLI::ValidationError("--set",
                                        "unknown set '" + name + "' (" + raySetNames() + ", all)");
-        if (std::find(out.begin(), out.end(), k) != out.end())
+        if (std::find(listed.begin(), listed.end(), k) != listed.end())
             throw CLI::ValidationError("--set", "'" + name + "' is named twice");
-        out.push_back(k);
+        listed.push_back(k);
+        named.push_back(true);
+    }
+    const std::vector<std::string> why = raySetsUnavailable(scene, listed);
+    std::vector<const RaySetDesc*> out;
+    for (size_t i = 0; i < listed.size(); ++i) {
+        if (why[i].empty())
+            out.push_back(listed[i]);
+        else if (named[i])
+            throw CLI::ValidationError("--set", std::string(listed[i]->name) + ": " + why[i] +
+                                                    " (leave the set out, or use --set all)");
+        else
+            notes.push_back(std::string("set ") + listed[i]->name + " left out: " + why[i]);
     }
     if (out.empty())
         throw CLI::ValidationError("--set",
@@ -100,6 +112,7 @@ void runRays(const RaysOptions& o) {
     }
     out.commit();
 
+    notes.insert(notes.end(), rays.notes.begin(), rays.notes.end());
     for (const std::string& n : notes) std::printf("note    %s\n", n.c_str());
     std::printf("%s: %u %s; %llu rays, seed %llu\n", scene.name.c_str(), scene.primitiveCount(),
                 scene.kind == PrimKind::Triangles ? "triangles" : "spheres",
