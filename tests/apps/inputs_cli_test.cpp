@@ -13,6 +13,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/io/npy.h"
 #include "tests/cli_harness.h"
 #include "tests/far_meshes.h"
 #include "tests/paths.h"
@@ -45,8 +46,9 @@ protected:
     std::string path(const std::string& name) const { return (work_ / name).string(); }
 
     // R.npy, R.json and H.{t,prim}.npy for `scene`.
-    void raysAndHits(const std::string& scene, const std::string& sets = "all") {
-        RunResult r = run({"rays", scene, "--count", "300", "--size", "16x16", "--set", sets,
+    void raysAndHits(const std::string& scene, const std::string& sets = "all",
+                     const std::string& count = "300") {
+        RunResult r = run({"rays", scene, "--count", count, "--size", "16x16", "--set", sets,
                            "--out", path("R.npy")},
                           120);
         ASSERT_EQ(r.status, 0) << show(r);
@@ -226,26 +228,19 @@ TEST_F(InputsCli, AnotherSceneIsRefusedAndTheSameSceneByAnotherPathIsNot) {
 // vertices are 1-2 ulps apart, tmin-tmax rows had NaN tmax or inf tmin, and trace refused the
 // file. Far from the origin the whole pipeline runs (a UTM-like terrain at y = 4e6).
 TEST_F(InputsCli, RaysWritesOnlyRowsTraceAccepts) {
-    for (const float base : {1e6f, 6.5e10f}) {
-        SCOPED_TRACE(base);
-        const std::string mesh =
-            octtest::writeObj(*root_, "ulp.obj", octtest::ulpHeightfield(base, 5));
-        RunResult r =
-            run({"rays", mesh, "--count", "3000", "--size", "16x16", "--out", path("R.npy")}, 120);
-        ASSERT_EQ(r.status, 0) << show(r);
-        r = run({"trace", mesh, "--rays", path("R.npy"), "--out", path("H"), "--backend", "cpu"},
-                120);
-        EXPECT_EQ(r.status, 0) << show(r);
+    const std::vector<std::pair<std::string, octtest::Mesh>> meshes = {
+        {"ulp-1e6.obj", octtest::ulpHeightfield(1e6f, 5)},
+        {"ulp-6.5e10.obj", octtest::ulpHeightfield(6.5e10f, 5)},
+        {"utm.obj", octtest::utmTerrain()}};
+    for (const auto& [name, mesh] : meshes) {
+        SCOPED_TRACE(name);
+        const std::string file = octtest::writeObj(*root_, name, mesh);
+        ASSERT_NO_FATAL_FAILURE(raysAndHits(file, "all", "3000"));  // trace took every row
+        if (name == "utm.obj") {
+            const RunResult r = run(certify(file), 120);
+            EXPECT_EQ(r.status, 0) << show(r);
+        }
     }
-    const std::string terrain = octtest::writeObj(*root_, "utm.obj", octtest::utmTerrain());
-    RunResult r =
-        run({"rays", terrain, "--count", "3000", "--size", "16x16", "--out", path("R.npy")}, 120);
-    ASSERT_EQ(r.status, 0) << show(r);
-    r = run({"trace", terrain, "--rays", path("R.npy"), "--out", path("H"), "--backend", "cpu"},
-            120);
-    ASSERT_EQ(r.status, 0) << show(r);
-    r = run(certify(terrain), 120);
-    EXPECT_EQ(r.status, 0) << show(r);
 }
 
 // `--set all` on a mesh without a shared edge (one triangle) or a closed fan (a quad) leaves the
@@ -283,6 +278,34 @@ TEST_F(InputsCli, SetAllLeavesOutWhatTheMeshCannotMake) {
             expectRefused(r, c.mesh, set + ":");
         }
     }
+}
+
+// The exit status (apps/cli.h): 0 PASS, 1 FAIL (a verdict), 2 when the command could not judge
+// (bad input or usage), for certify and validate alike.
+TEST_F(InputsCli, ExitStatusIsTheVerdictOrTwoForBadInput) {
+    ASSERT_NO_FATAL_FAILURE(raysAndHits(octtest::kCube, "around,edges"));
+    EXPECT_EQ(run(certify(octtest::kCube)).status, 0);
+    // One hit moved to half its distance: wrong, FAIL.
+    oct::NpyArray t = oct::readNpy(path("H.t.npy"));
+    auto* values = reinterpret_cast<float*>(t.data.data());
+    uint64_t i = 0;
+    while (i < t.elementCount() && !std::isfinite(values[i])) ++i;
+    ASSERT_LT(i, t.elementCount());
+    values[i] *= 0.5f;
+    oct::writeNpy(path("W.t.npy"), "<f4", t.shape, values, 4);
+    fs::copy_file(path("H.prim.npy"), path("W.prim.npy"));
+    RunResult r = run(certify(octtest::kCube, "W"));
+    EXPECT_EQ(r.status, 1) << show(r);
+    EXPECT_TRUE(isOneLineError(r));
+    // Could not judge: 2.
+    EXPECT_EQ(run(certify(octtest::kCube, "missing")).status, 2);
+    std::vector<std::string> args = certify(octtest::kCube);
+    args.push_back("--t-tolerance=nan");
+    EXPECT_EQ(run(args).status, 2);
+    EXPECT_EQ(run({"certify", octtest::kCube}).status, 2);  // no --rays
+    EXPECT_EQ(run({"validate", path("none.obj")}).status, 2);
+    EXPECT_EQ(run({"validate", octtest::kCube, "--grazing-cos", "inf"}).status, 2);
+    EXPECT_EQ(run({"validate", octtest::kCube, "--no-such-option"}).status, 2);
 }
 
 }  // namespace
