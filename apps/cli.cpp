@@ -81,9 +81,14 @@ std::string numberProblem(const std::string& text, double lo, double hi) {
     const double v = std::strtod(text.c_str(), &end);
     if (end == text.c_str()) return "";
     if (std::isnan(v) || std::isinf(v)) {
-        // "1e999" reads as inf too: too large, whatever the range.
-        if (std::isinf(v) && text.find_first_of("iI") == std::string::npos)
-            return text + " is too large (at most " + shortest(hi) + ")";
+        // "1e999" reads as inf too: out of any range, not a spelling of infinity.
+        if (std::isinf(v) && text.find_first_of("iI") == std::string::npos) {
+            const double bound = v > 0 ? hi : lo;
+            return text + (v > 0 ? " is too large" : " is too small") +
+                   (std::isfinite(bound)
+                        ? std::string(v > 0 ? " (at most " : " (at least ") + shortest(bound) + ")"
+                        : std::string());
+        }
         return text + " is not a finite number" +
                (std::isfinite(lo) ? " (give one in [" + shortest(lo) + ", " + shortest(hi) + "])"
                                   : "");

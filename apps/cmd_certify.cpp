@@ -72,7 +72,7 @@ void runCertify(const CertifyCliOptions& o) {
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
     std::vector<std::string> notes;
-    if (manifest) checkSameScene(*manifest, scene, o.rays);  // before a set is rebuilt
+    // raySetFromFile checks the scene against the manifest (checkSameScene) before it rebuilds.
     RaySet rays = raySetFromFile(scene, std::move(rows), manifest, o.rays, notes);
     if (!o.diffImage.empty() && !rays.find("camera"))
         throw std::runtime_error(

@@ -505,14 +505,21 @@ void shadowRays(const Scene& scene, const FrameParams& f, const TraceBatch& refe
     std::vector<int32_t> prim(n);
     reference({cam.rays.data(), t.data(), prim.data(), n});
     const PrimitivesView prims = primitivesView(scene);
+    uint64_t untraceable = 0;
     for (uint64_t i = 0; i < n; ++i) {
         // A malformed reference hit is skipped, never indexed.
         if (prim[i] < 0 || uint32_t(prim[i]) >= prims.count || !std::isfinite(t[i])) continue;
         const ShadowQuery q = shadowQuery(f.shading, prims, cam.ray(i), {t[i], prim[i]});
         // A row trace would refuse is left out (the set is taken as given, never rebuilt).
-        if (q.cast && traceable(q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax))
+        if (!q.cast) continue;
+        if (traceable(q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax))
             push(out, q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax);
+        else
+            ++untraceable;
     }
+    if (untraceable > 0)
+        out.notes.push_back("shadow: " + plural(untraceable, "ray was a row", "rays were rows") +
+                            " octrace trace refuses, left out");
 }
 
 // The frame of the camera sets, made once for both.
