@@ -354,8 +354,9 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
             throw std::runtime_error("'" + raysPath + "' rows " + std::to_string(f.begin) + ".." +
                                      std::to_string(f.begin + f.count) + " (set '" + f.name +
                                      "') are not the set its manifest describes on '" + scene.name +
-                                     "': certify with the scene the rays were made for, or "
-                                     "write them again with octrace rays");
+                                     "': the file was edited, another version of octrace wrote "
+                                     "it, or it was made for another scene; write the rays "
+                                     "again with octrace rays");
         for (RayTarget t : rebuilt.targets)
             if (t.row >= r->begin && t.row < r->begin + r->count) {
                 t.row = t.row - r->begin + f.begin;
