@@ -19,7 +19,10 @@ void addCameraOptions(CLI::App& cmd, CameraChoice& o) {
     cmd.add_option("--eye", o.eye, "Camera position x,y,z (default: framed from the bounds)");
     cmd.add_option("--target", o.target, "Point looked at x,y,z (default: the bounds' centre)");
     cmd.add_option("--up", o.up, "Up vector x,y,z (default 0,1,0)");
-    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees")->capture_default_str();
+    // makeFrame refuses 0 and 180 and what lies beyond (before anything is loaded).
+    cmd.add_option("--fov", o.fov, "Vertical field of view, degrees (0 to 180, open)")
+        ->capture_default_str()
+        ->check(finiteNumber());
     cmd.add_option("--light", o.light, "Point light x,y,z (default: above and right of the eye)");
 }
 

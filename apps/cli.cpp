@@ -35,43 +35,95 @@ void addSceneOptions(CLI::App& cmd, SceneOptions& o) {
     cmd.add_option("scene", o.path, sceneFormatsHelp())->required();
     cmd.add_option("--max-depth", o.maxDepth, "Deepest octree level (root = 0), 0..21")
         ->capture_default_str()
-        ->check(CLI::Range(0, kMaxOctreeDepth));
+        ->check(numberIn(0, kMaxOctreeDepth));
     cmd.add_option("--max-prims", o.maxPrims, "Split a node holding more primitives than this")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 1u << 30));
+        ->check(numberIn(1, 1u << 30));
     cmd.add_option("--radius", o.radius,
                    "Sphere radius for point clouds (default: half the median nearest-neighbour "
                    "distance)")
-        ->check(CLI::Validator(
-            [](std::string& text) -> std::string {
-                // A float > 0 (as o.radius holds it: 1e-50 would become 0, the default rule,
-                // and 1e39 infinity); the message is short, unlike CLI::PositiveNumber's.
-                char* end = nullptr;
-                const double value = std::strtod(text.c_str(), &end);
-                if (!text.empty() && *end == '\0' && std::isfinite(float(value)) &&
-                    float(value) > 0.0f)
-                    return "";
-                return text +
-                       " is not a positive finite radius; give one, or leave --radius out "
-                       "for the default rule";
-            },
-            "POSITIVE"));
+        ->check(finiteNumber())
+        ->check(positiveRadius());
     addLayoutLimitOptions(cmd, o.limits, "refused");
 }
 
 void addLayoutLimitOptions(CLI::App& cmd, LayoutLimitOptions& o, const std::string& overBudget) {
     cmd.add_option("--hash-slots", o.hashSlots, "Slots per hash bucket (B)")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 64u));
+        ->check(numberIn(1, 64));
     cmd.add_option("--linear-budget", o.linearBudgetMiB,
                    "Largest linear octree to allocate, MiB (larger: " + overBudget + ")")
         ->capture_default_str()
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+        ->check(numberIn(1, double(uint64_t(1) << 24)));
     cmd.add_option(
            "--hash-budget", o.hashBudgetMiB,
            "Largest hash octree (m * B slots) to allocate, MiB (larger: " + overBudget + ")")
         ->capture_default_str()
-        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 24));
+        ->check(numberIn(1, double(uint64_t(1) << 24)));
+}
+
+namespace {
+
+// The shortest decimal that reads back as v ("0.001", "1073741824", "1e+06").
+std::string shortest(double v) {
+    char buf[40];
+    for (int precision = 1; precision <= 17; ++precision) {
+        std::snprintf(buf, sizeof buf, "%.*g", precision, v);
+        if (std::strtod(buf, nullptr) == v) break;
+    }
+    return buf;
+}
+
+// Why `text` is refused as a number in [lo, hi], or "" (also for text that is no number at
+// all: CLI11's conversion refuses that, naming the type it wanted).
+std::string numberProblem(const std::string& text, double lo, double hi) {
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (end == text.c_str()) return "";
+    if (std::isnan(v) || std::isinf(v)) {
+        // "1e999" reads as inf too: out of any range, not a spelling of infinity.
+        if (std::isinf(v) && text.find_first_of("iI") == std::string::npos) {
+            const double bound = v > 0 ? hi : lo;
+            return text + (v > 0 ? " is too large" : " is too small") +
+                   (std::isfinite(bound)
+                        ? std::string(v > 0 ? " (at most " : " (at least ") + shortest(bound) + ")"
+                        : std::string());
+        }
+        return text + " is not a finite number" +
+               (std::isfinite(lo) ? " (give one in [" + shortest(lo) + ", " + shortest(hi) + "])"
+                                  : "");
+    }
+    if (*end != '\0' || (v >= lo && v <= hi)) return "";
+    return text + " is not in [" + shortest(lo) + ", " + shortest(hi) + "]";
+}
+
+}  // namespace
+
+CLI::Validator positiveRadius() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            // A float > 0 (as the option holds it: 1e-50 would become 0, the default rule, and
+            // 1e39 infinity); the message is short, unlike CLI::PositiveNumber's.
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            if (!text.empty() && *end == '\0' && std::isfinite(float(value)) && float(value) > 0.0f)
+                return "";
+            return text +
+                   " is not a positive finite radius; give one, or leave --radius out for the "
+                   "default rule";
+        },
+        "POSITIVE");
+}
+
+CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](std::string& text) { return numberProblem(text, -INFINITY, INFINITY); }, "",
+        kNumberValidator);
+}
+
+CLI::Validator numberIn(double lo, double hi) {
+    return CLI::Validator([lo, hi](std::string& text) { return numberProblem(text, lo, hi); },
+                          "[" + shortest(lo) + ", " + shortest(hi) + "]", kNumberValidator);
 }
 
 void parseImageSize(const std::string& text, int& w, int& h) {
@@ -104,7 +156,7 @@ void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHe
         ->capture_default_str();
     cmd.add_option("--backend,--backends", o.backend, backendHelp)->capture_default_str();
     cmd.add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::Range(1, 4096));
+        ->check(numberIn(1, 4096));
 }
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -193,20 +245,6 @@ void writeTextOutput(const std::string& path, const std::string& text) {
 
 namespace {
 
-// What to try after std::bad_alloc, in the options of the command that ran (layout builders
-// and loading name their own sizes; this is whatever else ran out).
-std::string outOfMemoryAdvice(const CLI::App& app) {
-    const std::vector<CLI::App*> ran = app.get_subcommands();
-    const std::string command = ran.empty() ? "" : ran[0]->get_name();
-    std::string advice = "a smaller scene, a lower --max-depth or a higher --max-prims";
-    if (command == "render") advice = "a smaller --size, " + advice;
-    if (command == "trace") advice = "fewer rays, " + advice;
-    if (command == "validate" || command == "bench")
-        advice = "a smaller --size, fewer --rays, " + advice;
-    return "out of memory (std::bad_alloc)" + (command.empty() ? "" : " in octrace " + command) +
-           ": try " + advice;
-}
-
 // Standard output is an output too: a full disk or a closed pipe behind it must not end in
 // exit status 0 with the results lost (as `--json -` into /dev/full did).
 bool standardOutputFailed() {
@@ -217,11 +255,31 @@ bool standardOutputFailed() {
 
 }  // namespace
 
-int runCli(int argc, char** argv) {
-    CLI::App app{
-        "octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
-        "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
-    app.require_subcommand(1);
+std::string outOfMemoryAdvice(const CLI::App& command) {
+    // What shrinks the work, in the order worth trying, each named only where the command has
+    // the option (certify and rays have no --max-depth; info has no --size).
+    auto has = [&](const char* name) { return command.get_option_no_throw(name) != nullptr; };
+    auto isCount = [&](const char* name) {
+        return has(name) &&
+               command.get_option_no_throw(name)->get_type_name().rfind("TEXT", 0) != 0;
+    };
+    std::vector<std::string> items;
+    if (has("--size")) items.push_back("a smaller --size");
+    if (isCount("--rays")) items.push_back("fewer --rays");
+    if (has("--rays") && !isCount("--rays")) items.push_back("fewer rays in the --rays file");
+    if (isCount("--count")) items.push_back("a smaller --count");
+    items.push_back("a smaller scene");
+    if (has("--max-depth")) items.push_back("a lower --max-depth");
+    if (has("--max-prims")) items.push_back("a higher --max-prims");
+    std::string advice;
+    for (size_t i = 0; i < items.size(); ++i)
+        advice += (i == 0 ? "" : i + 1 == items.size() ? " or " : ", ") + items[i];
+    const std::string name = command.get_name();
+    return "out of memory (std::bad_alloc)" + (command.get_parent() ? " in octrace " + name : "") +
+           ": try " + advice;
+}
+
+void registerCommands(CLI::App& app) {
     registerInfo(app);
     registerRender(app);
     registerTrace(app);
@@ -231,6 +289,15 @@ int runCli(int argc, char** argv) {
     registerRays(app);
     registerCertify(app);
     registerExplain(app);
+}
+
+int runCli(int argc, char** argv) {
+    CLI::App app{
+        "octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
+        "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
+    app.require_subcommand(1);
+    registerCommands(app);
+    // Every exit status is chosen here (cli.h, kExitSuccess .. kExitIncomplete).
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -239,24 +306,25 @@ int runCli(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
         std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
-        return 2;
-    } catch (const VerdictError& e) {
+        return kExitError;
+    } catch (const CommandVerdict& e) {
         std::cerr << "octrace: " << e.what() << "\n";
         return e.status();
     } catch (const std::bad_alloc&) {
-        std::cerr << "octrace: error: " << outOfMemoryAdvice(app) << "\n";
-        return 1;
+        const std::vector<CLI::App*> ran = app.get_subcommands();
+        std::cerr << "octrace: error: " << outOfMemoryAdvice(ran.empty() ? app : *ran[0]) << "\n";
+        return kExitError;
     } catch (const std::exception& e) {
         std::cerr << "octrace: error: " << e.what() << "\n";
-        return 1;
+        return kExitError;
     }
     if (standardOutputFailed()) {
         const int err = errno;
         std::cerr << "octrace: error: cannot write standard output: "
                   << std::strerror(err ? err : EIO) << " (the results printed there are lost)\n";
-        return 1;
+        return kExitError;
     }
-    return 0;
+    return kExitSuccess;
 }
 
 }  // namespace oct

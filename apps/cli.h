@@ -1,11 +1,12 @@
 // The octrace command line: option parsing and printing only; the work lives in the library
 // folders (core/, backends/, validation/, bench/). Every error reaches the user as one line on
-// stderr and a non-zero exit status. The subcommands are registered in runCli (cli.cpp).
+// stderr and a non-zero exit status. The subcommands are registered in registerCommands.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,24 +17,48 @@
 
 namespace oct {
 
-// Runs the command line; returns the process exit status (docs/CERTIFY.md, "Exit status"): 0
-// PASS or done, 1 FAIL, 2 bad input or usage, 3 INCOMPLETE. Never throws.
-int runCli(int argc, char** argv);
-
+// The exit statuses of every command, in this one place (runCli maps what a command throws):
+//   0  success (a certification or validation: PASS);
+//   1  a verdict: FAIL (certify, validate) or failed cases (bench), thrown as CommandVerdict;
+//   2  the command could not do its work: a usage error, a bad option value, an input that is
+//      missing, not a regular file or malformed, and any other error (out of memory, an output
+//      that cannot be written), as grep and diff use 2 for trouble;
+//   3  a verdict: INCOMPLETE (certify, when what it could check does not settle the verdict).
+constexpr int kExitSuccess = 0;
 constexpr int kExitFail = 1;
+constexpr int kExitError = 2;
 constexpr int kExitIncomplete = 3;
 
-// A verdict that is not a PASS: validate and certify end with it, runCli prints the message
-// and exits with the status.
-class VerdictError : public std::runtime_error {
+// A command's verdict other than success: runCli prints "octrace: " and what() as one line and
+// exits with `status` (kExitFail or kExitIncomplete). Every other exception exits kExitError.
+class CommandVerdict : public std::runtime_error {
 public:
-    VerdictError(const std::string& message, int status)
-        : std::runtime_error(message), status_(status) {}
+    CommandVerdict(int status, const std::string& what)
+        : std::runtime_error(what), status_(status) {}
     int status() const { return status_; }
 
 private:
     int status_;
 };
+
+// Runs the command line; returns the process exit status. Never throws.
+int runCli(int argc, char** argv);
+// Adds every subcommand to app (what runCli parses; the tests walk their options).
+void registerCommands(CLI::App& app);
+// The line runCli prints after std::bad_alloc in `command` (a subcommand, or the app when none
+// ran): what to try, naming only options the command has.
+std::string outOfMemoryAdvice(const CLI::App& command);
+
+// The one validator of numeric options, on every option of every command that takes a number
+// (tests/apps walks them all): NaN and +-inf, in any spelling strtod reads, are refused with
+// one line naming the option (CLI11's Range lets NaN through), and so is a value outside
+// [lo, hi], the bounds printed as %g (never 309 digits). Text that is no number is left to
+// CLI11's conversion, which names it. Named kNumberValidator, so a test can find it.
+constexpr const char* kNumberValidator = "NUMBER";
+CLI::Validator finiteNumber();
+CLI::Validator numberIn(double lo, double hi);
+// --radius's own range, after finiteNumber(): a float > 0 (0 is the default rule, not a value).
+CLI::Validator positiveRadius();
 
 // --hash-slots, --linear-budget, --hash-budget: the layouts' shape and memory limits, the same
 // for every command that builds layouts (SceneOptions below, and `octrace bench`).

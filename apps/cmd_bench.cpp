@@ -41,6 +41,11 @@ const char* kDefaultMeshes[] = {"cube_binary.ply",
                                 "cache/dragon_vrip.ply"};
 const char* kQuickMeshes[] = {"cornell_box.obj", "teapot.obj"};
 
+// --max-seconds: a case's time budget, positive (0 was refused with the double's largest value
+// printed in full); a nanosecond skips every case that needs a probe frame (the tests' way to
+// see the guard), and above 1e6 s (11.6 days) it is no budget.
+constexpr double kMinCaseSeconds = 1e-9, kMaxCaseSeconds = 1e6;
+
 struct BenchOptions {
     bool quick = false;
     std::string out = "bench/results/latest";
@@ -231,8 +236,9 @@ void runBench(BenchOptions o, CLI::App* cmd) {
         omp_get_max_threads(), deviceName.empty() ? "" : (", GPU " + deviceName).c_str());
     int failed = runSweep(s, machine, config, dir);
     if (failed > 0)
-        throw std::runtime_error(std::to_string(failed) +
-                                 " benchmark cases failed (status \"error\" in the results)");
+        throw CommandVerdict(
+            kExitFail,
+            std::to_string(failed) + " benchmark cases failed (status \"error\" in the results)");
 }
 
 }  // namespace
@@ -261,26 +267,28 @@ void registerBench(CLI::App& app) {
     cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
     cmd->add_option("--repeats", o->repeats, "Timed frames per case (median, min, max)")
         ->capture_default_str()
-        ->check(CLI::Range(1, 1000));
+        ->check(numberIn(1, 1000));
     cmd->add_option("--warmup", o->warmup, "Untimed frames before the timed ones")
         ->capture_default_str()
-        ->check(CLI::Range(0, 1000));
+        ->check(numberIn(0, 1000));
     cmd->add_option("--max-seconds", o->maxSeconds,
                     "Seconds per case: fewer frames when warm-up + repeats would take longer, "
-                    "skipped when one frame would")
+                    "skipped when one frame would; 1e-9 to 1e6")
         ->capture_default_str()
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--seed", o->seed, "Grid cloud seed")->capture_default_str();
+        ->check(numberIn(kMinCaseSeconds, kMaxCaseSeconds));
+    cmd->add_option("--seed", o->seed, "Grid cloud seed")
+        ->capture_default_str()
+        ->check(finiteNumber());
     cmd->add_option("--max-depth", o->meshMaxDepth, "Mesh octrees: deepest level")
         ->capture_default_str()
-        ->check(CLI::Range(0, kMaxOctreeDepth));
+        ->check(numberIn(0, kMaxOctreeDepth));
     cmd->add_option("--max-prims", o->meshMaxPrims, "Mesh octrees: split above this many")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 1u << 30));
+        ->check(numberIn(1, 1u << 30));
     cmd->add_option("--cloud-max-prims", o->cloudMaxPrims,
                     "Grid cloud octrees (split down to the grid depth): split above this many")
         ->capture_default_str()
-        ->check(CLI::Range(1u, 1u << 30));
+        ->check(numberIn(1, 1u << 30));
     addLayoutLimitOptions(*cmd, o->limits, "skipped");
     cmd->add_flag("!--no-progress", o->progress, "No progress lines on stderr");
     cmd->callback([o, cmd] { runBench(*o, cmd); });

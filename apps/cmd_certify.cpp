@@ -83,7 +83,10 @@ void runCertify(const CertifyCliOptions& o) {
     std::optional<VerdictArrays> baseline;
     if (!o.baseline.empty()) baseline = readVerdictFiles(o.baseline, n);
     std::optional<RayManifest> manifest;
-    if (haveManifest) manifest = readManifest(manifestPath);
+    if (haveManifest) {
+        manifest = readManifest(manifestPath);
+        checkManifestRows(*manifest, n, o.rays);  // before the scene is loaded
+    }
 
     LoadOptions lo;
     lo.radius = o.radius > 0.0f ? o.radius : (manifest && manifest->radius ? *manifest->radius : 0);
@@ -92,11 +95,7 @@ void runCertify(const CertifyCliOptions& o) {
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
     std::vector<std::string> notes;
-    if (manifest && manifest->primitives != scene.primitiveCount())
-        throw std::runtime_error("'" + o.scene + "' has " + std::to_string(scene.primitiveCount()) +
-                                 " primitives, but the rays were made for '" + manifest->scene +
-                                 "' with " + std::to_string(manifest->primitives) +
-                                 " (its manifest " + manifestPath + ")");
+    // raySetFromFile checks the scene against the manifest (checkSameScene) before it rebuilds.
     RaySet rays = raySetFromFile(scene, std::move(rows), manifest, o.rays, notes);
     if (!o.diffImage.empty() && !rays.find("camera"))
         throw std::runtime_error(
@@ -140,8 +139,8 @@ void runCertify(const CertifyCliOptions& o) {
     std::fflush(stdout);
     const Outcome outcome = rep.outcome();
     if (outcome != Outcome::Pass)
-        throw VerdictError(verdictLine(rep),
-                           outcome == Outcome::Incomplete ? kExitIncomplete : kExitFail);
+        throw CommandVerdict(outcome == Outcome::Incomplete ? kExitIncomplete : kExitFail,
+                             verdictLine(rep));
 }
 
 }  // namespace
@@ -158,7 +157,8 @@ void registerCertify(CLI::App& app) {
     cmd->add_option("--radius", o->radius,
                     "Sphere radius for point clouds (default: the manifest's, else as octrace "
                     "info)")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteNumber())
+        ->check(positiveRadius());
     cmd->add_option("--rays", o->rays,
                     "Ray file R.npy, float32 (N, 8); its manifest R.json is read when present")
         ->required();
@@ -193,7 +193,7 @@ void registerCertify(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--threads", o->threads,
                     "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(CLI::Range(1, 4096));
+        ->check(numberIn(1, 4096));
     cmd->callback([o] { runCertify(*o); });
 }
 

@@ -17,7 +17,7 @@ namespace oct {
 namespace {
 
 // Same bound as validate's --rays: 8 floats a ray plus the answers of a tracer.
-constexpr uint64_t kMaxRays = 100000000;
+constexpr uint64_t kMaxRays = kMaxSeededRays;
 
 struct RaysOptions {
     std::string scene;
@@ -28,29 +28,41 @@ struct RaysOptions {
     RaysOptions() { camera.size = "256x256"; }
 };
 
-// --set: names or "all" (every set that fits the scene: raySetMisfit).
+// --set: names or "all" (every set the scene can make: on a point cloud those that need no
+// triangles, on a mesh without a shared edge or a closed fan no edges or vertices set, each
+// left out with a note). A set named explicitly that the scene cannot make is refused.
 std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
                                          std::vector<std::string>& notes) {
-    std::vector<const RaySetDesc*> out;
+    std::vector<const RaySetDesc*> listed;
+    std::vector<bool> named;  // given by name, not by "all"
     for (const std::string& name : splitList(text)) {
         if (name == "all") {
-            for (const RaySetDesc& kind : standardRaySets()) {
-                if (!raySetMisfit(kind, scene).empty()) {
-                    notes.push_back(std::string("set ") + kind.name + " left out: it " +
-                                    raySetMisfit(kind, scene));
-                    continue;
+            for (const RaySetDesc& kind : standardRaySets())
+                if (std::find(listed.begin(), listed.end(), &kind) == listed.end()) {
+                    listed.push_back(&kind);
+                    named.push_back(false);
                 }
-                if (std::find(out.begin(), out.end(), &kind) == out.end()) out.push_back(&kind);
-            }
             continue;
         }
         const RaySetDesc* k = findRaySet(name);
         if (!k)
             throw CLI::ValidationError("--set",
                                        "unknown set '" + name + "' (" + raySetNames() + ", all)");
-        if (std::find(out.begin(), out.end(), k) != out.end())
+        if (std::find(listed.begin(), listed.end(), k) != listed.end())
             throw CLI::ValidationError("--set", "'" + name + "' is named twice");
-        out.push_back(k);
+        listed.push_back(k);
+        named.push_back(true);
+    }
+    const std::vector<std::string> why = raySetsUnavailable(scene, listed);
+    std::vector<const RaySetDesc*> out;
+    for (size_t i = 0; i < listed.size(); ++i) {
+        if (why[i].empty())
+            out.push_back(listed[i]);
+        else if (named[i])
+            throw CLI::ValidationError("--set", std::string(listed[i]->name) + ": " + why[i] +
+                                                    " (leave the set out, or use --set all)");
+        else
+            notes.push_back(std::string("set ") + listed[i]->name + " left out: " + why[i]);
     }
     if (out.empty())
         throw CLI::ValidationError("--set",
@@ -63,9 +75,6 @@ void runRays(const RaysOptions& o) {
     spec.camera = cameraOptions(o.camera);
     spec.count = o.count;
     spec.seed = o.seed;
-    if (o.count > kMaxRays)
-        throw std::runtime_error("--count " + std::to_string(o.count) + " is more than " +
-                                 std::to_string(kMaxRays) + " rays; use fewer");
     const std::string manifestPath = manifestPathFor(o.out);
     checkOutputPaths({o.out, manifestPath, o.triangles}, {o.scene});
     for (const std::string& p : {o.out, manifestPath, o.triangles})
@@ -104,6 +113,7 @@ void runRays(const RaysOptions& o) {
     }
     out.commit();
 
+    notes.insert(notes.end(), rays.notes.begin(), rays.notes.end());
     for (const std::string& n : notes) std::printf("note    %s\n", n.c_str());
     std::printf("%s: %u %s; %llu rays, seed %llu\n", scene.name.c_str(), scene.primitiveCount(),
                 scene.kind == PrimKind::Triangles ? "triangles" : "spheres",
@@ -126,14 +136,18 @@ void registerRays(CLI::App& app) {
         "octrace certify (docs/CERTIFY.md)");
     cmd->add_option("scene", o->scene, sceneFormatsHelp())->required();
     cmd->add_option("--radius", o->radius, "Sphere radius for point clouds (as octrace info)")
-        ->check(CLI::PositiveNumber);
+        ->check(finiteNumber())
+        ->check(positiveRadius());
     cmd->add_option("--set,--sets", o->sets, "Sets, comma-separated: " + raySetNames() + ", or all")
         ->capture_default_str();
     cmd->add_option("--count", o->count,
                     "Rays over the seeded sets together (all but camera and shadow), split "
                     "evenly; at most 1e8")
-        ->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Seed of the seeded sets")->capture_default_str();
+        ->capture_default_str()
+        ->check(numberIn(0, double(kMaxRays)));
+    cmd->add_option("--seed", o->seed, "Seed of the seeded sets")
+        ->capture_default_str()
+        ->check(finiteNumber());
     cmd->add_option("--out", o->out, "Ray file R.npy; the manifest goes to R.json")->required();
     cmd->add_option("--triangles", o->triangles,
                     "Also write the triangles as octrace numbers them: float32 (M, 9) .npy");

@@ -190,12 +190,12 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--heatmap-max", o->heatmapMax,
                     "Fix the colour scale's top (default: the image's maximum), so maps of "
                     "different layouts compare")
-        ->check(CLI::Range(1u, 0xffffffffu));
+        ->check(numberIn(1, 0xffffffffu));
     cmd->add_option("--overlay-out", o->overlayOut,
                     "Write the image with the octree's leaf cells drawn over it (PNG)");
     cmd->add_option("--overlay-depth", o->overlayDepth,
                     "Draw the cells of this depth instead of the leaves")
-        ->check(CLI::Range(0, kMaxOctreeDepth));
+        ->check(numberIn(0, kMaxOctreeDepth));
     cmd->add_flag("--compare-embree", o->compareEmbree,
                   "Also trace the frame with Embree and print how many pixels agree");
     cmd->callback([o] { runRender(*o); });

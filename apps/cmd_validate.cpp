@@ -107,8 +107,8 @@ void runValidate(const ValidateCliOptions& o) {
         addToJson(j, reg);
         if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
         if (!reg.passes())
-            throw VerdictError("validation FAILED" + reg.failureText() + " (see the report above)",
-                               kExitFail);
+            throw CommandVerdict(
+                kExitFail, "validation FAILED" + reg.failureText() + " (see the report above)");
         return;
     }
     ValidateOptions vo;
@@ -163,14 +163,13 @@ void runValidate(const ValidateCliOptions& o) {
         }
     std::fflush(stdout);
     if (!rep.passes() || !reg.passes())
-        throw VerdictError("validation FAILED: " + failureText(rep) + reg.failureText() +
-                               " (see the report above)",
-                           kExitFail);
+        throw CommandVerdict(kExitFail, "validation FAILED: " + failureText(rep) +
+                                            reg.failureText() + " (see the report above)");
     if (!rep.complete())
-        throw VerdictError(
+        throw CommandVerdict(
+            kExitIncomplete,
             "validation INCOMPLETE: nothing wrong, but mismatches past --max-rechecks are "
-            "unverified (see the report above; raise or drop the cap to judge them)",
-            kExitIncomplete);
+            "unverified (see the report above; raise or drop the cap to judge them)");
 }
 
 }  // namespace
@@ -194,8 +193,11 @@ void registerValidate(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--rays", o->rays,
                     "Seeded rays (around, inside, axis-parallel); 0 for none, at most 1e8")
-        ->capture_default_str();
-    cmd->add_option("--seed", o->seed, "Seed of the ray sets")->capture_default_str();
+        ->capture_default_str()
+        ->check(finiteNumber());
+    cmd->add_option("--seed", o->seed, "Seed of the ray sets")
+        ->capture_default_str()
+        ->check(finiteNumber());
     addJsonOption(*cmd, o->json, "the report");
     cmd->add_option("--diff-image", o->diffImage,
                     "Write a PNG heat map of |dt| with wrong pixels marked (one per run: "
@@ -206,7 +208,8 @@ void registerValidate(CLI::App& app) {
     cmd->add_option("--box-rays", o->boxRays,
                     "Rays of the box-test contract (exact rationals against the kernel's slab "
                     "tests on the octree's boxes, docs/VALIDATION.md); 0 for none")
-        ->capture_default_str();
+        ->capture_default_str()
+        ->check(finiteNumber());
     cmd->add_flag("--table1", o->table1,
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");

@@ -1,10 +1,10 @@
 #include "core/io/npy.h"
 
-#include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <sstream>
+
+#include "core/io/input_file.h"
 
 namespace oct {
 
@@ -128,33 +128,28 @@ void writeNpy(const std::string& path, const std::string& descr, const std::vect
     writeFileAtomic(path, encodeNpy(descr, shape, data, elementSize));
 }
 
-NpyArray readNpy(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("cannot open '" + path + "': " + std::strerror(errno));
-    in.seekg(0, std::ios::end);
-    std::streamoff fileSize = in.tellg();
-    in.seekg(0);
+NpyArray readNpy(const std::string& path, const std::string& what,
+                 const std::function<void(const NpyArray&)>& check) {
+    InputFile in(path, what);
+    const uint64_t fileSize = in.size();
     if (fileSize < 10) bad(path, "shorter than the 10-byte preamble");
-    char pre[10];
-    in.read(pre, 10);
+    unsigned char pre[12];
+    in.readExactly(pre, 10);
     if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
-    int major = static_cast<uint8_t>(pre[6]);
-    uint64_t headerLen =
-        static_cast<uint8_t>(pre[8]) | (uint64_t(static_cast<uint8_t>(pre[9])) << 8);
+    const int major = pre[6];
+    uint64_t headerLen = pre[8] | uint64_t(pre[9]) << 8;
     uint64_t dataStart = 10;
     if (major == 2 || major == 3) {
-        char more[2];
-        in.read(more, 2);
-        headerLen |= (uint64_t(static_cast<uint8_t>(more[0])) << 16) |
-                     (uint64_t(static_cast<uint8_t>(more[1])) << 24);
+        if (fileSize < 12) bad(path, "shorter than its preamble");
+        in.readExactly(pre + 10, 2);
+        headerLen |= uint64_t(pre[10]) << 16 | uint64_t(pre[11]) << 24;
         dataStart = 12;
     } else if (major != 1) {
         bad(path, "unsupported format version " + std::to_string(major));
     }
-    if (headerLen > uint64_t(fileSize) - dataStart)
-        bad(path, "header runs past the end of the file");
+    if (headerLen > fileSize - dataStart) bad(path, "header runs past the end of the file");
     std::string header(headerLen, '\0');
-    in.read(&header[0], std::streamsize(headerLen));
+    in.readExactly(&header[0], header.size());
     dataStart += headerLen;
 
     NpyArray a;
@@ -170,13 +165,14 @@ NpyArray readNpy(const std::string& path) {
             bad(path, "shape is too large");
         count *= d;
     }
-    uint64_t available = uint64_t(fileSize) - dataStart;
+    uint64_t available = fileSize - dataStart;
     if (count * elem != available)
         bad(path, "shape needs " + std::to_string(count * elem) + " data bytes but the file has " +
                       std::to_string(available) + " (truncated or wrong header)");
+    if (check) check(a);  // before the data: a wrong shape is refused unread
     a.data.resize(count * elem);
-    in.read(reinterpret_cast<char*>(a.data.data()), std::streamsize(a.data.size()));
-    if (!in) bad(path, "read failed");
+    in.readExactly(a.data.data(), a.data.size());
+    if (!in.atEnd()) bad(path, "the file changed while it was read");
     return a;
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,9 +46,13 @@ std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint6
 void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
               const void* data, size_t elementSize);
 
-// Reads a version 1.x or 2.x .npy file. Throws IoError naming the file and the problem for a
-// missing file, a bad magic or header, Fortran order, or a data size that disagrees with the
-// shape (checked before allocating, overflow-safe).
-NpyArray readNpy(const std::string& path);
+// Reads a version 1.x, 2.x or 3.x .npy file. Throws IoError naming the file and the problem for
+// a missing file or one that is not a regular file (refused unread, core/io/input_file.h;
+// `what` names it there: "hits"), a bad magic or header, Fortran order, or a data size that
+// disagrees with the shape (checked before allocating, overflow-safe). `check`, when given,
+// sees the dtype and shape (no data yet) before the data are read and may throw: a file of
+// the wrong shape is then refused without reading its data.
+NpyArray readNpy(const std::string& path, const std::string& what = "the .npy file",
+                 const std::function<void(const NpyArray&)>& check = {});
 
 }  // namespace oct

@@ -1,16 +1,12 @@
 #include "core/io/ray_file.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <map>
 #include <sstream>
 
 #include "core/geometry/numeric_range.h"
+#include "core/io/input_file.h"
 
 namespace oct {
 namespace {
@@ -21,38 +17,6 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 
 [[noreturn]] void bad(const std::string& path, const std::string& why) {
     throw IoError("'" + path + "' is not a valid .npy file: " + why);
-}
-
-[[noreturn]] void notRegular(const std::string& path, mode_t m) {
-    throw IoError("cannot read rays from '" + path + "': it is " + fileKind(m) +
-                  ", not a regular file; save the rays with numpy.save and give that file");
-}
-
-class Fd {
-public:
-    explicit Fd(int fd) : fd_(fd) {}
-    ~Fd() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    Fd(const Fd&) = delete;
-    Fd& operator=(const Fd&) = delete;
-    int get() const { return fd_; }
-
-private:
-    int fd_;
-};
-
-// Reads exactly n bytes unless the file ends first; returns the bytes read.
-size_t readFull(int fd, void* into, size_t n) {
-    auto* p = static_cast<char*>(into);
-    size_t done = 0;
-    while (done < n) {
-        ssize_t got = ::read(fd, p + done, n - done);
-        if (got < 0 && errno == EINTR) continue;
-        if (got <= 0) break;
-        done += size_t(got);
-    }
-    return done;
 }
 
 // The header is a Python dict literal, e.g. {'descr': '<f4', 'fortran_order': False,
@@ -187,31 +151,19 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
 }  // namespace
 
 uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate) {
-    // O_NONBLOCK: opening a FIFO without a writer returns at once (and is then refused below).
-    Fd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));
-    if (fd.get() < 0) {
-        const int err = errno;
-        struct stat st;
-        if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) notRegular(path, st.st_mode);
-        throw IoError("cannot open '" + path + "': " + std::strerror(err));
-    }
-    struct stat st;
-    if (::fstat(fd.get(), &st) != 0)
-        throw IoError("cannot read '" + path + "': " + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) notRegular(path, st.st_mode);
-    const uint64_t fileSize = uint64_t(st.st_size);
+    InputFile in(path, "the ray file", "save the rays with numpy.save and give that file");
+    const uint64_t fileSize = in.size();
 
     // Preamble: magic "\x93NUMPY", major, minor, header length (uint16 LE in 1.0, uint32 LE in
     // 2.0 and 3.0), then the header, then the data.
     unsigned char pre[12];
-    if (fileSize < 10 || readFull(fd.get(), pre, 10) != 10)
-        bad(path, "shorter than the 10-byte preamble");
+    if (fileSize < 10 || in.read(pre, 10) != 10) bad(path, "shorter than the 10-byte preamble");
     if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
     const int major = pre[6];
     uint64_t headerLen = pre[8] | uint64_t(pre[9]) << 8;
     uint64_t dataStart = 10;
     if (major == 2 || major == 3) {
-        if (readFull(fd.get(), pre + 10, 2) != 2) bad(path, "shorter than its preamble");
+        if (in.read(pre + 10, 2) != 2) bad(path, "shorter than its preamble");
         headerLen |= uint64_t(pre[10]) << 16 | uint64_t(pre[11]) << 24;
         dataStart = 12;
     } else if (major != 1) {
@@ -219,7 +171,7 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
     }
     if (headerLen > fileSize - dataStart) bad(path, "header runs past the end of the file");
     std::string header(headerLen, '\0');
-    if (readFull(fd.get(), &header[0], headerLen) != headerLen)
+    if (in.read(&header[0], headerLen) != headerLen)
         bad(path, "the file changed while it was read");
     dataStart += headerLen;
 
@@ -243,8 +195,7 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
                       " (truncated or wrong header)");
 
     float* rays = allocate(rows);  // the final buffer: read into directly, one pass
-    char extra;
-    if (readFull(fd.get(), rays, available) != available || readFull(fd.get(), &extra, 1) != 0)
+    if (in.read(rays, available) != available || !in.atEnd())
         bad(path, "the file changed while it was read");
     const uint64_t first = firstBadRow(rays, rows);
     if (first < rows)

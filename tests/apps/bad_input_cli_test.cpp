@@ -61,7 +61,7 @@ protected:
 void expectOneLineError(const RunResult& r, const std::string& path, const std::string& text) {
     ASSERT_FALSE(r.timedOut) << "killed after " << r.seconds << " s";
     ASSERT_EQ(r.signal, 0) << "ended by signal " << r.signal << "; stderr: " << r.err;
-    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.status, 2) << r.err;  // kExitError: bad input
     EXPECT_EQ(r.err.rfind("octrace: error: ", 0), 0u) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
     EXPECT_NE(r.err.find(path), std::string::npos) << "names the file: " << r.err;

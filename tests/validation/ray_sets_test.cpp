@@ -87,12 +87,17 @@ RaySetSpec seededSpec(uint64_t count, uint64_t seed) {
 
 // Same seed, same bytes, on every machine: the seeded sets use raw mt19937_64 output and IEEE
 // arithmetic only, so this checksum of the teapot's rays is the same everywhere. A change here
-// changes every published ray file: only on purpose, with the docs (docs/CERTIFY.md).
+// changes every published ray file: only on purpose, with the docs (docs/CERTIFY.md). Last
+// changed (from 3c3a6479d86b4435) when an edges or vertices target became sealed only where the
+// double truth hits one of its own triangles at its t on the stored ray: 135 of 2000 teapot
+// targets were hidden behind another part of the teapot and are drawn again, which changes the
+// edges and vertices rows from the first such one on; around, inside, axis, grazing and
+// tmin-tmax are byte for byte the same (and so are the cube's and sphere_with_hole's sets).
 TEST(RaySets, SeededSetsHaveAPinnedChecksum) {
     Scene scene = loadScene(octtest::meshPath("teapot.obj"));
     RaySet r = makeRaySet(scene, seededSpec(700, 5));
     ASSERT_EQ(r.count(), 700u);
-    EXPECT_EQ(hex64(fnv1a64(r.rays.data(), r.rays.size() * sizeof(float))), "3c3a6479d86b4435");
+    EXPECT_EQ(hex64(fnv1a64(r.rays.data(), r.rays.size() * sizeof(float))), "5ca4e2075201275a");
     RaySet again = makeRaySet(scene, seededSpec(700, 5));
     EXPECT_EQ(r.rays, again.rays);
 }

@@ -16,12 +16,13 @@ std::string shapeText(const std::vector<uint64_t>& shape) {
 // The array of one file, checked against what certify expects.
 NpyArray readColumn(const std::string& path, const char* descr, const char* what, uint64_t n,
                     const std::string& raysPath) {
-    NpyArray a = readNpy(path);
-    if (a.descr != descr || a.shape.size() != 1 || a.shape[0] != n)
-        throw IoError("'" + path + "' holds dtype " + a.descr + " shape " + shapeText(a.shape) +
-                      "; expected " + what + " (" + descr + ") of shape (" + std::to_string(n) +
-                      ",), one per row of '" + raysPath + "' (docs/TRACE_FORMAT.md)");
-    return a;
+    // Checked on the header, before the data are read.
+    return readNpy(path, "hits", [&](const NpyArray& a) {
+        if (a.descr != descr || a.shape.size() != 1 || a.shape[0] != n)
+            throw IoError("'" + path + "' holds dtype " + a.descr + " shape " + shapeText(a.shape) +
+                          "; expected " + what + " (" + descr + ") of shape (" + std::to_string(n) +
+                          ",), one per row of '" + raysPath + "' (docs/TRACE_FORMAT.md)");
+    });
 }
 
 }  // namespace

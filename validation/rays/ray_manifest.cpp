@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
+#include "core/io/input_file.h"
 #include "core/io/output_file.h"
 
 #ifndef OCT_VERSION
@@ -21,11 +20,14 @@ using nlohmann::json;
 json vec(Vec3 v) { return json::array({v.x, v.y, v.z}); }
 json optVec(const std::optional<Vec3>& v) { return v ? vec(*v) : json(nullptr); }
 
+const char* kRewrite =
+    "write it again with octrace rays, or remove it to certify the rays as one set";
+
 [[noreturn]] void bad(const std::string& path, const std::string& why) {
-    throw IoError("ray manifest '" + path + "': " + why +
-                  " (write it again with octrace rays, or remove it to certify the rays as one "
-                  "set)");
+    throw IoError("ray manifest '" + path + "': " + why + " (" + kRewrite + ")");
 }
+
+std::string num(uint64_t v) { return std::to_string(v); }
 
 const json& field(const json& j, const char* key, const std::string& path) {
     if (!j.is_object() || !j.contains(key)) bad(path, std::string("no field '") + key + "'");
@@ -45,13 +47,31 @@ std::string text(const json& j, const char* key, const std::string& path) {
     return v.get<std::string>();
 }
 
+// A count of at most `most` (the manifest's own range: nothing is built from it first).
+uint64_t countAtMost(const json& j, const char* key, uint64_t most, const std::string& path,
+                     const char* within = "") {
+    const uint64_t v = count(j, key, path);
+    if (v > most)
+        bad(path, std::string(within) + "'" + key + "' " + num(v) + " is more than " + num(most));
+    return v;
+}
+
+// A number that is finite as a float (1e300 would become inf).
+float finiteFloat(const json& v, const std::string& what, const std::string& path) {
+    if (!v.is_number()) bad(path, what + " is not a number");
+    const double d = v.get<double>();
+    if (!std::isfinite(float(d))) bad(path, what + " " + v.dump() + " is not a finite float");
+    return float(d);
+}
+
 std::optional<Vec3> optionalVec(const json& j, const char* key, const std::string& path) {
     const json& v = field(j, key, path);
     if (v.is_null()) return std::nullopt;
-    if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() ||
-        !v[2].is_number())
+    if (!v.is_array() || v.size() != 3)
         bad(path, std::string("camera '") + key + "' is not null or three numbers");
-    return Vec3{v[0].get<float>(), v[1].get<float>(), v[2].get<float>()};
+    const std::string what = std::string("camera '") + key + "'";
+    return Vec3{finiteFloat(v[0], what, path), finiteFloat(v[1], what, path),
+                finiteFloat(v[2], what, path)};
 }
 
 // The file's rows of one set, as bytes.
@@ -80,6 +100,7 @@ RayManifest describeRaySet(const Scene& scene, const RaySetSpec& spec, const Ray
     m.scene = scene.name;
     m.kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
     m.primitives = scene.primitiveCount();
+    m.fingerprint = sceneFingerprint(scene);
     // The radius a point cloud file was loaded with, so that certify loads the same spheres. A
     // generated grid cloud's radius is fixed by its spec (and the loader refuses one): none.
     if (scene.kind == PrimKind::Spheres && !scene.spheres.empty() && scene.gridDepth < 0)
@@ -107,7 +128,8 @@ json toJson(const RayManifest& m) {
                {{"name", m.scene},
                 {"kind", m.kind},
                 {"primitives", m.primitives},
-                {"radius", m.radius ? json(*m.radius) : json(nullptr)}}},
+                {"radius", m.radius ? json(*m.radius) : json(nullptr)},
+                {"fnv1a64", m.fingerprint}}},
               {"seed", m.seed},
               {"count", m.count},
               {"rows", m.rows},
@@ -138,13 +160,17 @@ RayManifest manifestFromJson(const json& j, const std::string& path) {
     const json& s = field(j, "scene", path);
     m.scene = text(s, "name", path);
     m.kind = text(s, "kind", path);
-    m.primitives = uint32_t(count(s, "primitives", path));
+    if (m.kind != "triangles" && m.kind != "spheres")
+        bad(path, "scene 'kind' is \"" + m.kind + "\", not \"triangles\" or \"spheres\"");
+    // The loader refuses 2^32 - 1 primitives and more (32-bit ids): a larger count wrapped.
+    m.primitives = uint32_t(countAtMost(s, "primitives", UINT32_MAX - 1, path, "scene "));
     if (s.contains("radius") && !s["radius"].is_null()) {
-        if (!s["radius"].is_number()) bad(path, "'radius' is not a number");
-        m.radius = s["radius"].get<float>();
+        m.radius = finiteFloat(s["radius"], "scene 'radius'", path);
+        if (!(*m.radius > 0.0f)) bad(path, "scene 'radius' is not positive");
     }
+    if (s.contains("fnv1a64")) m.fingerprint = text(s, "fnv1a64", path);
     m.seed = count(j, "seed", path);
-    m.count = count(j, "count", path);
+    m.count = countAtMost(j, "count", kMaxSeededRays, path);
     m.rows = count(j, "rows", path);
     m.checksum = text(j, "fnv1a64", path);
     const json& sets = field(j, "sets", path);
@@ -154,10 +180,12 @@ RayManifest manifestFromJson(const json& j, const std::string& path) {
     if (j.contains("camera") && !j["camera"].is_null()) {
         const json& c = j["camera"];
         CameraOptions o;
-        o.width = int(count(c, "width", path));
-        o.height = int(count(c, "height", path));
-        if (!field(c, "fov", path).is_number()) bad(path, "camera 'fov' is not a number");
-        o.fovDegrees = c["fov"].get<float>();
+        o.width = int(countAtMost(c, "width", uint64_t(kMaxImageSide), path, "camera "));
+        o.height = int(countAtMost(c, "height", uint64_t(kMaxImageSide), path, "camera "));
+        if (o.width < 1 || o.height < 1) bad(path, "camera 'width' and 'height' must be >= 1");
+        o.fovDegrees = finiteFloat(field(c, "fov", path), "camera 'fov'", path);
+        if (!(o.fovDegrees > 0.0f && o.fovDegrees < 180.0f))
+            bad(path, "camera 'fov' " + c["fov"].dump() + " is not between 0 and 180 degrees");
         o.eye = optionalVec(c, "eye", path);
         o.target = optionalVec(c, "target", path);
         o.up = optionalVec(c, "up", path);
@@ -168,12 +196,83 @@ RayManifest manifestFromJson(const json& j, const std::string& path) {
 }
 
 RayManifest readManifest(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError("cannot open ray manifest '" + path + "'");
-    std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::string bytes = readSmallInput(path, "the ray manifest", kMaxManifestBytes, kRewrite);
     json j = json::parse(bytes, nullptr, false);
     if (j.is_discarded()) bad(path, "not JSON");
     return manifestFromJson(j, path);
+}
+
+std::string sceneFingerprint(const Scene& scene) {
+    static_assert(sizeof(Triangle) == 36 && sizeof(Sphere) == 16, "packed floats");
+    uint64_t h = 0xcbf29ce484222325ull;  // fnv1a64, continued over both arrays
+    auto feed = [&h](const void* data, size_t bytes) {
+        const auto* p = static_cast<const uint8_t*>(data);
+        for (size_t i = 0; i < bytes; ++i) {
+            h ^= p[i];
+            h *= 0x100000001b3ull;
+        }
+    };
+    feed(scene.triangles.data(), scene.triangles.size() * sizeof(Triangle));
+    feed(scene.spheres.data(), scene.spheres.size() * sizeof(Sphere));
+    return hex64(h);
+}
+
+void checkManifestRows(const RayManifest& m, uint64_t n, const std::string& raysPath) {
+    const std::string mp = manifestPathFor(raysPath);
+    // The sets must cover the rows in order, without gap or overlap.
+    uint64_t next = 0;
+    for (const RaySetRange& r : m.sets) {
+        if (r.begin != next || r.count > n - std::min(n, r.begin))
+            throw IoError("ray manifest '" + mp + "': set '" + r.name + "' rows " + num(r.begin) +
+                          "+" + num(r.count) + " do not follow row " + num(next) + " within the " +
+                          num(n) + " rows of '" + raysPath + "' (" + kRewrite + ")");
+        next = r.begin + r.count;
+    }
+    if (next != n || m.rows != n)
+        throw IoError("ray manifest '" + mp + "' describes " + num(m.rows) +
+                      " rows in sets covering " + num(next) + ", but '" + raysPath + "' has " +
+                      num(n) + " (write the rays and their manifest again with octrace rays)");
+    // The standard sets' own counts, from which they are rebuilt: the camera's image and the
+    // seeded sets' shares of `count` (shadow depends on a reference's hits: any count).
+    RaySetSpec spec;
+    spec.count = m.count;
+    for (const RaySetRange& r : m.sets)
+        if (const RaySetDesc* k = findRaySet(r.name)) spec.sets.push_back(k);
+    for (const RaySetRange& r : m.sets) {
+        const RaySetDesc* k = findRaySet(r.name);
+        if (!k || k->needsReference) continue;
+        uint64_t expected = 0;
+        std::string why;
+        if (!k->seeded) {
+            if (!m.camera)
+                throw IoError("ray manifest '" + mp + "' has a camera set but no 'camera' (" +
+                              kRewrite + ")");
+            expected = uint64_t(m.camera->width) * uint64_t(m.camera->height);
+            why = "its camera 'width' x 'height' " + num(uint64_t(m.camera->width)) + "x" +
+                  num(uint64_t(m.camera->height));
+        } else {
+            expected = seededShare(spec, *k);
+            why = "its share of 'count' " + num(m.count);
+        }
+        if (r.count != expected)
+            throw IoError("ray manifest '" + mp + "': set '" + r.name + "' has " + num(r.count) +
+                          " rows, but " + why + " makes " + num(expected) + " (" + kRewrite + ")");
+    }
+}
+
+void checkSameScene(const RayManifest& m, const Scene& scene, const std::string& raysPath) {
+    const std::string kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
+    const std::string fingerprint = m.fingerprint.empty() ? "" : sceneFingerprint(scene);
+    if (m.kind == kind && m.primitives == scene.primitiveCount() && m.fingerprint == fingerprint)
+        return;
+    auto describe = [](const std::string& k, uint64_t prims, const std::string& f) {
+        return num(prims) + " " + k + (f.empty() ? "" : ", geometry " + f);
+    };
+    throw IoError("these rays were made for '" + m.scene + "' (" +
+                  describe(m.kind, m.primitives, m.fingerprint) + "; ray manifest '" +
+                  manifestPathFor(raysPath) + "'), and '" + scene.name + "' is another scene (" +
+                  describe(kind, scene.primitiveCount(), fingerprint) +
+                  "): certify them against that scene");
 }
 
 RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
@@ -188,26 +287,15 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     }
     const RayManifest& m = *manifest;
     const std::string mp = manifestPathFor(raysPath);
-    // The sets must cover the rows in order, without gap or overlap.
-    uint64_t next = 0;
-    for (const RaySetRange& r : m.sets) {
-        if (r.begin != next || r.count > n - std::min(n, r.begin))
-            throw std::runtime_error("ray manifest '" + mp + "': set '" + r.name + "' rows " +
-                                     std::to_string(r.begin) + "+" + std::to_string(r.count) +
-                                     " do not follow row " + std::to_string(next) + " within the " +
-                                     std::to_string(n) + " rows of '" + raysPath + "'");
-        next = r.begin + r.count;
-    }
-    if (next != n || m.rows != n)
-        throw std::runtime_error("ray manifest '" + mp + "' describes " + std::to_string(m.rows) +
-                                 " rows in sets covering " + std::to_string(next) + ", but '" +
-                                 raysPath + "' has " + std::to_string(n) +
-                                 " (write the rays and their manifest again with octrace rays)");
+    // Everything that can be checked without building, first: no manifest makes this build
+    // more rows than the file has, nor rebuild the sets on another scene.
+    checkManifestRows(m, n, raysPath);
     const std::string sum = hex64(fnv1a64(out.rays.data(), out.rays.size() * sizeof(float)));
     if (sum != m.checksum)
         throw std::runtime_error("'" + raysPath + "' is not the file its manifest '" + mp +
                                  "' describes (FNV-1a " + sum + ", manifest " + m.checksum +
                                  "): the rays were changed; write them again with octrace rays");
+    checkSameScene(m, scene, raysPath);
     out.sets = m.sets;
 
     // Rebuild the standard sets (all but shadow, which needs the reference's camera hits) and
@@ -227,8 +315,8 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     for (const RaySetDesc* k : spec.sets) needCamera = needCamera || !k->seeded;
     if (needCamera) {
         if (!m.camera)
-            throw std::runtime_error("ray manifest '" + mp +
-                                     "' has a camera or shadow set but no 'camera'");
+            throw IoError("ray manifest '" + mp + "' has a camera or shadow set but no 'camera' (" +
+                          kRewrite + ")");
         spec.camera = *m.camera;
         out.frame = makeFrame(scene.bounds(), spec.camera);
     }
@@ -266,8 +354,9 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
             throw std::runtime_error("'" + raysPath + "' rows " + std::to_string(f.begin) + ".." +
                                      std::to_string(f.begin + f.count) + " (set '" + f.name +
                                      "') are not the set its manifest describes on '" + scene.name +
-                                     "': certify with the scene the rays were made for, or "
-                                     "write them again with octrace rays");
+                                     "': the file was edited, another version of octrace wrote "
+                                     "it, or it was made for another scene; write the rays "
+                                     "again with octrace rays");
         for (RayTarget t : rebuilt.targets)
             if (t.row >= r->begin && t.row < r->begin + r->count) {
                 t.row = t.row - r->begin + f.begin;

@@ -4,19 +4,26 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <stdexcept>
 
 #include "core/geometry/vec3t.h"
+#include "core/io/ray_file.h"
 #include "core/octree/built_scene.h"
 #include "core/octree/octree.h"
 #include "core/scene/mesh_topology.h"
 #include "core/scene/slivers.h"
+#include "validation/policy/double_tracer.h"
+#include "validation/policy/film_compare.h"
 
 namespace oct {
 namespace {
 
-// Radius, relative to the scene's extent, of the disc a sealed target must be covered on.
+// Radius, relative to the scene's extent, of the disc a sealed target must be covered on. It is
+// checked on the stored ray, whose float origin may lie far off the point aimed at (0.25 at
+// y = 4e6): a tracer's own error is relative to the ray's local geometry (vertex - origin, exact
+// for nearby floats), some 1e-7 of the ray's few triangle sides, far inside this disc.
 constexpr double kSealMargin = 1e-5;
 constexpr double kEdgeMinCos = 0.1, kVertexMinCos = 0.05;
 constexpr int kAttemptsPerRay = 200;
@@ -52,6 +59,8 @@ struct RaySetContext {
     std::vector<uint32_t> interiorEdges, fanVertices;
     std::vector<std::vector<uint32_t>> links;  // per fan vertex
     std::vector<double> cumulativeArea;        // slivers: running sum of the triangles' areas
+    std::unique_ptr<DoubleTracer> truth;       // the seal's double-precision check
+    double tTolerance = 0.0;                   // world units: the default t tolerance
 };
 
 namespace {
@@ -150,6 +159,16 @@ void push(RaySet& out, Vec3 o, Vec3 d, float tmin, float tmax) {
     out.rays.insert(out.rays.end(), r, r + 8);
 }
 
+// Would `octrace trace` take this row (the reader's own rule)?
+bool traceable(Vec3 o, Vec3 d, float tmin, float tmax) {
+    const float r[8] = {o.x, o.y, o.z, d.x, d.y, d.z, tmin, tmax};
+    return rayRowProblem(r).empty();
+}
+
+std::string plural(uint64_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 void around(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     for (uint64_t i = 0; i < n; ++i) {
         Vec3 o = c.centre + unitVector(rng) * (1.5f * c.radius);
@@ -195,9 +214,10 @@ void aimAt(Vec3 p, Vec3 from, Vec3& o, Vec3& dir, double& t) {
     t = dot(toDouble(p) - toDouble(o), dd) / dot(dd, dd);
 }
 
-// Is the edge target sealed for this ray: seen along it, the two triangles lie on both sides of
-// the edge and cover a disc of radius `margin` around p, each at |cos| >= kEdgeMinCos.
-bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
+// Is the edge target sealed for the stored ray (origin o, direction dir): seen along it, the two
+// triangles lie on both sides of the edge and cover a disc of radius `margin` around the point
+// where the ray passes (the origin's projection), each at |cos| >= kEdgeMinCos.
+bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 o, Vec3 dir) {
     const DVec3 d = toDouble(dir);
     const Projection proj(d);
     auto at = [&](Vec3 v) {
@@ -206,7 +226,7 @@ bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
         return q;
     };
     const MeshTopology& t = *c.topo;
-    P2 a = at(t.vertices[e.a]), b = at(t.vertices[e.b]), q = at(p);
+    P2 a = at(t.vertices[e.a]), b = at(t.vertices[e.b]), q = at(o);
     P2 opp[2];
     for (int k = 0; k < 2; ++k) {
         const Triangle& tri = c.scene.triangles[e.tri[k]];
@@ -217,22 +237,24 @@ bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 p, Vec3 dir) {
         opp[k] = at(t.vertices[o]);
     }
     double s0 = side(a, b, opp[0]), s1 = side(a, b, opp[1]);
-    if (!((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0))) return false;  // a fold seen edge-on
+    if (!((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0))) return false;    // a fold seen edge-on
+    if (windingNumber({a, opp[0], b, opp[1]}, q) == 0) return false;  // the ray passes outside
     for (int k = 0; k < 2; ++k)
         if (segmentDistance(q, a, opp[k]) < c.margin || segmentDistance(q, opp[k], b) < c.margin)
             return false;
     return true;
 }
 
-bool vertexSealed(const Context& c, uint32_t v, const std::vector<uint32_t>& link, Vec3 dir) {
+bool vertexSealed(const Context& c, uint32_t v, const std::vector<uint32_t>& link, Vec3 o,
+                  Vec3 dir) {
     const DVec3 d = toDouble(dir);
     const MeshTopology& t = *c.topo;
     for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k)
         if (absCos(triangleNormal(c.scene.triangles[t.vertexTriangles[k]]), d) < kVertexMinCos)
             return false;
     const Projection proj(d);
-    P2 q;
-    proj(toDouble(t.vertices[v]), q.x, q.y);
+    P2 q;  // where the stored ray passes
+    proj(toDouble(o), q.x, q.y);
     std::vector<P2> poly(link.size());
     for (size_t i = 0; i < link.size(); ++i)
         proj(toDouble(t.vertices[link[i]]), poly[i].x, poly[i].y);
@@ -250,7 +272,7 @@ double longestSide(const Triangle& t) {
 [[noreturn]] void notPlaced(const Context& c, const char* set, uint64_t placed, uint64_t n) {
     throw std::invalid_argument("ray set '" + std::string(set) + "': placed only " +
                                 std::to_string(placed) + " of " + std::to_string(n) +
-                                " sealed rays on '" + c.scene.name + "' in " +
+                                " rays that octrace trace accepts on '" + c.scene.name + "' in " +
                                 std::to_string(kAttemptsPerRay) + " tries each");
 }
 
@@ -266,6 +288,59 @@ void prepareTopology(Context& c) {
         c.fanVertices.push_back(v);
         c.links.push_back(std::move(link));
     }
+    c.truth = std::make_unique<DoubleTracer>(c.scene, TouchTolerance{0.0, 0.0});
+}
+
+// The seal's second half: the double-precision truth, on the stored float ray, hits one of the
+// target's own triangles (ascending ids) within the default t tolerance of its t.
+bool truthHitsTarget(const Context& c, Vec3 o, Vec3 dir, double t,
+                     const std::vector<uint32_t>& own) {
+    const Hit h = c.truth->closest(toDoubleRay(Ray{o, dir, 0.0f, INFINITY}));
+    return h.prim >= 0 && std::binary_search(own.begin(), own.end(), uint32_t(h.prim)) &&
+           std::fabs(double(h.t) - t) <= c.tTolerance / length(toDouble(dir));
+}
+
+// One target ray of the edges or vertices set: up to kAttemptsPerRay draws (each `draw` aims one
+// ray and says whether it is sealed); the first sealed one is kept, else the last whose row trace
+// accepts, marked unsealed. Returns false when no draw gave such a row.
+struct TargetDraw {
+    Vec3 o, dir;
+    RayTarget target;
+};
+struct TargetCounts {
+    uint64_t unsealed = 0, untraceable = 0;
+};
+bool placeTarget(const std::function<bool(TargetDraw&)>& draw, RaySet& out, TargetCounts& n) {
+    std::optional<TargetDraw> kept;
+    for (int attempt = 0; attempt < kAttemptsPerRay; ++attempt) {
+        TargetDraw d;
+        const bool sealed = draw(d);
+        if (!traceable(d.o, d.dir, 0.0f, INFINITY)) {
+            ++n.untraceable;
+            continue;
+        }
+        d.target.sealed = sealed;
+        kept = d;
+        if (sealed) break;
+    }
+    if (!kept) return false;
+    n.unsealed += !kept->target.sealed;
+    kept->target.row = out.count();
+    out.targets.push_back(kept->target);
+    push(out, kept->o, kept->dir, 0.0f, INFINITY);
+    return true;
+}
+
+void noteTargets(const char* set, uint64_t n, const TargetCounts& k, RaySet& out) {
+    if (k.unsealed > 0)
+        out.notes.push_back(std::string(set) + ": " + std::to_string(k.unsealed) + " of " +
+                            plural(n, "target", "targets") + " could not be sealed in " +
+                            std::to_string(kAttemptsPerRay) +
+                            " draws (kept, marked unsealed: not counted as checked for leaks)");
+    if (k.untraceable > 0)
+        out.notes.push_back(std::string(set) + ": " +
+                            plural(k.untraceable, "draw was a row", "draws were rows") +
+                            " octrace trace refuses, drawn again");
 }
 
 void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
@@ -274,28 +349,33 @@ void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
         throw std::invalid_argument("ray set 'edges': '" + c.scene.name +
                                     "' has no edge shared by exactly two triangles");
     const MeshTopology& t = *c.topo;
+    TargetCounts counts;
     for (uint64_t i = 0; i < n; ++i) {
-        bool placed = false;
-        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+        auto draw = [&](TargetDraw& d) {
             const MeshEdge& e = t.edges[c.interiorEdges[rng.below(c.interiorEdges.size())]];
             const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
             const Vec3 p = va + (vb - va) * float(rng.range(0.2, 0.8));  // float, as a hit point
             const Triangle &ta = c.scene.triangles[e.tri[0]], &tb = c.scene.triangles[e.tri[1]];
             DVec3 front = triangleNormal(ta) * (1.0 / length(triangleNormal(ta))) +
                           triangleNormal(tb) * (1.0 / length(triangleNormal(tb)));
-            Vec3 d = unitVector(rng);
-            if (dot(toDouble(d), front) > 0) d = -d;  // coming from the front side
+            Vec3 dir = unitVector(rng);
+            if (dot(toDouble(dir), front) > 0) dir = -dir;  // coming from the front side
             const double r = std::max(longestSide(ta), longestSide(tb)) * rng.range(1.0, 3.0);
-            Vec3 o, dir;
             double tt;
-            aimAt(p, p - d * float(r), o, dir, tt);
-            if (!edgeSealed(c, e, p, dir)) continue;
-            out.targets.push_back({out.count(), tt, e.a, e.b, va, vb});
-            push(out, o, dir, 0.0f, INFINITY);
-            placed = true;
-        }
-        if (!placed) notPlaced(c, "edges", i, n);
+            aimAt(p, p - dir * float(r), d.o, d.dir, tt);
+            d.target = {0,
+                        tt,
+                        e.a,
+                        e.b,
+                        va,
+                        vb,
+                        {std::min(e.tri[0], e.tri[1]), std::max(e.tri[0], e.tri[1])}};
+            return edgeSealed(c, e, d.o, d.dir) &&
+                   truthHitsTarget(c, d.o, d.dir, tt, d.target.triangles);
+        };
+        if (!placeTarget(draw, out, counts)) notPlaced(c, "edges", i, n);
     }
+    noteTargets("edges", n, counts, out);
 }
 
 void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
@@ -304,32 +384,34 @@ void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
         throw std::invalid_argument("ray set 'vertices': '" + c.scene.name +
                                     "' has no vertex whose triangles close a fan around it");
     const MeshTopology& t = *c.topo;
+    TargetCounts counts;
     for (uint64_t i = 0; i < n; ++i) {
-        bool placed = false;
-        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+        auto draw = [&](TargetDraw& d) {
             const size_t pick = rng.below(c.fanVertices.size());
             const uint32_t v = c.fanVertices[pick];
             DVec3 front = {0, 0, 0};
             double r = 0.0;
+            std::vector<uint32_t> fan;
             for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k) {
                 const Triangle& tri = c.scene.triangles[t.vertexTriangles[k]];
                 front = front + triangleNormal(tri);
                 r = std::max(r, longestSide(tri));
+                fan.push_back(t.vertexTriangles[k]);
             }
-            Vec3 d = unitVector(rng);
-            if (dot(toDouble(d), front) > 0) d = -d;
+            std::sort(fan.begin(), fan.end());
+            Vec3 dir = unitVector(rng);
+            if (dot(toDouble(dir), front) > 0) dir = -dir;
             r *= rng.range(1.0, 3.0);
             const Vec3 p = t.vertices[v];
-            Vec3 o, dir;
             double tt;
-            aimAt(p, p - d * float(r), o, dir, tt);
-            if (!vertexSealed(c, v, c.links[pick], dir)) continue;
-            out.targets.push_back({out.count(), tt, v, v, p, p});
-            push(out, o, dir, 0.0f, INFINITY);
-            placed = true;
-        }
-        if (!placed) notPlaced(c, "vertices", i, n);
+            aimAt(p, p - dir * float(r), d.o, d.dir, tt);
+            d.target = {0, tt, v, v, p, p, std::move(fan)};
+            return vertexSealed(c, v, c.links[pick], d.o, d.dir) &&
+                   truthHitsTarget(c, d.o, d.dir, tt, d.target.triangles);
+        };
+        if (!placeTarget(draw, out, counts)) notPlaced(c, "vertices", i, n);
     }
+    noteTargets("vertices", n, counts, out);
 }
 
 // A point inside triangle tri (uniform, computed in float as a tracer would).
@@ -372,27 +454,44 @@ void grazing(Context& c, Rng& rng, uint64_t n, RaySet& out) {
 
 void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     const std::vector<Triangle>& tris = c.scene.triangles;
+    uint64_t untraceable = 0;
     for (uint64_t i = 0; i < n; ++i) {
-        const Triangle& tri = tris[rng.below(tris.size())];
-        const Vec3 p = pointOn(rng, tri);
-        const DVec3 nrm = triangleNormal(tri);
-        Vec3 d;
-        do d = unitVector(rng);
-        while (absCos(nrm, toDouble(d)) < 0.2);
-        const float r = float(longestSide(tri) * rng.range(0.5, 1.5));
-        if (i % 4 == 0) {  // starts on the surface
-            push(out, p, d, 0.0f, INFINITY);
-            continue;
+        bool placed = false;
+        // Drawn again while the row is one trace refuses: where the origin rounds onto the point
+        // (triangles a float spacing wide) the direction is NaN, or the plane's distance inf.
+        for (int attempt = 0; attempt < kAttemptsPerRay && !placed; ++attempt) {
+            const Triangle& tri = tris[rng.below(tris.size())];
+            const Vec3 p = pointOn(rng, tri);
+            const DVec3 nrm = triangleNormal(tri);
+            Vec3 d;
+            do d = unitVector(rng);
+            while (absCos(nrm, toDouble(d)) < 0.2);
+            const float r = float(longestSide(tri) * rng.range(0.5, 1.5));
+            Vec3 o = p, dir = d;
+            float tmin = 0.0f, tmax = INFINITY;  // i % 4 == 0: starts on the surface
+            if (i % 4 != 0) {
+                o = p - d * r;
+                dir = normalize(p - o);
+                // The ray parameter where the stored float ray meets the triangle's plane.
+                const double th =
+                    dot(nrm, toDouble(tri.v0) - toDouble(o)) / dot(nrm, toDouble(dir));
+                const float tf = float(th);
+                if (i % 4 == 1) tmax = tf;                        // ends exactly at the surface
+                if (i % 4 == 2) tmin = tf;                        // starts exactly there
+                if (i % 4 == 3) tmax = std::nextafter(tf, 0.0f);  // ends one ulp short
+            }
+            placed = traceable(o, dir, tmin, tmax);
+            if (placed)
+                push(out, o, dir, tmin, tmax);
+            else
+                ++untraceable;
         }
-        const Vec3 o = p - d * r;
-        const Vec3 dir = normalize(p - o);
-        // The ray parameter where the stored float ray meets the triangle's plane.
-        const double th = dot(nrm, toDouble(tri.v0) - toDouble(o)) / dot(nrm, toDouble(dir));
-        const float tf = float(th);
-        if (i % 4 == 1) push(out, o, dir, 0.0f, tf);      // ends exactly at the surface
-        if (i % 4 == 2) push(out, o, dir, tf, INFINITY);  // starts exactly there
-        if (i % 4 == 3) push(out, o, dir, 0.0f, std::nextafter(tf, 0.0f));  // ends one ulp short
+        if (!placed) notPlaced(c, "tmin-tmax", i, n);
     }
+    if (untraceable > 0)
+        out.notes.push_back(
+            "tmin-tmax: " + plural(untraceable, "draw was a row", "draws were rows") +
+            " octrace trace refuses, drawn again");
 }
 
 // A triangle with probability proportional to its area (so that pointOn is uniform over all).
@@ -495,12 +594,21 @@ void shadowRays(const Scene& scene, const FrameParams& f, const TraceBatch& refe
     std::vector<int32_t> prim(n);
     reference({cam.rays.data(), t.data(), prim.data(), n});
     const PrimitivesView prims = primitivesView(scene);
+    uint64_t untraceable = 0;
     for (uint64_t i = 0; i < n; ++i) {
         // A malformed reference hit is skipped, never indexed.
         if (prim[i] < 0 || uint32_t(prim[i]) >= prims.count || !std::isfinite(t[i])) continue;
         const ShadowQuery q = shadowQuery(f.shading, prims, cam.ray(i), {t[i], prim[i]});
-        if (q.cast) push(out, q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax);
+        // A row trace would refuse is left out (the set is taken as given, never rebuilt).
+        if (!q.cast) continue;
+        if (traceable(q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax))
+            push(out, q.ray.org, q.ray.dir, q.ray.tmin, q.ray.tmax);
+        else
+            ++untraceable;
     }
+    if (untraceable > 0)
+        out.notes.push_back("shadow: " + plural(untraceable, "ray was a row", "rays were rows") +
+                            " octrace trace refuses, left out");
 }
 
 // The frame of the camera sets, made once for both.
@@ -560,6 +668,33 @@ const RaySetRange* RaySet::find(const std::string& name) const {
     return nullptr;
 }
 
+std::vector<std::string> raySetsUnavailable(const Scene& scene,
+                                            const std::vector<const RaySetDesc*>& sets) {
+    std::vector<std::string> why(sets.size());
+    std::optional<MeshTopology> topo;  // made once, when edges or vertices are asked
+    for (size_t i = 0; i < sets.size(); ++i) {
+        const RaySetDesc& k = *sets[i];
+        const std::string misfit = raySetMisfit(k, scene);
+        if (!misfit.empty()) {
+            why[i] = "it " + misfit;
+            continue;
+        }
+        if (k.generate != edges && k.generate != vertices) continue;
+        if (!topo) topo = meshTopology(scene);
+        if (k.generate == edges && std::none_of(topo->edges.begin(), topo->edges.end(),
+                                                [](const MeshEdge& e) { return e.triangles == 2; }))
+            why[i] = "'" + scene.name + "' has no edge shared by exactly two triangles";
+        if (k.generate == vertices) {
+            bool fan = false;
+            for (uint32_t v = 0; v < topo->vertices.size() && !fan; ++v)
+                fan = !vertexLink(*topo, v).empty();
+            if (!fan)
+                why[i] = "'" + scene.name + "' has no vertex whose triangles close a fan around it";
+        }
+    }
+    return why;
+}
+
 uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k) {
     uint64_t seeded = 0, index = 0;
     bool found = false;
@@ -597,11 +732,12 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
                                         "' needs a reference tracer for the camera hits");
     }
     Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {}, {},
-              {},    {},          {}};
+              {},    {},          {},          {}, 0.0};
     c.centre = c.bounds.center();
     c.radius = 0.5f * length(c.bounds.extent());
     if (!(c.radius > 0.0f)) c.radius = 0.5f * length(c.root.extent());
     c.margin = kSealMargin * sceneExtent(scene);
+    c.tTolerance = kDefaultRelativeTolerance * sceneExtent(scene);
 
     RaySet out;
     for (const RaySetDesc* k : spec.sets) {
@@ -610,6 +746,15 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
         Rng rng = streamFor(spec.seed, *k);
         out.rays.reserve(out.rays.size() + 8 * n);
         k->generate(c, rng, n, out);
+        // Every row is one `octrace trace` accepts: a generator that wrote another is a bug.
+        for (uint64_t r = begin; r < out.count(); ++r) {
+            const std::string why = rayRowProblem(&out.rays[8 * r]);
+            if (!why.empty())
+                throw std::logic_error("ray set '" + std::string(k->name) + "' made row " +
+                                       std::to_string(r - begin) +
+                                       ", which octrace trace refuses (" + why +
+                                       "): a bug of its generator in ray_sets.cpp");
+        }
         out.sets.push_back({k->name, begin, out.count() - begin});
     }
     return out;

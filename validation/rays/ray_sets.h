@@ -29,12 +29,25 @@
 //            stored float ray meets the plane at least 1e-5 x the extent inside the square:
 //            the target is that crossing (t in double), and every ray must hit.
 //
-// An edges or vertices ray is *sealed*: seen along the ray, the two triangles of its edge (the
-// fan of its vertex) cover a disc of radius 1e-5 x the scene's extent around the target point,
-// and every one of them meets the ray at |cos| >= 0.1 (edges) or 0.05 (vertices). A tracer
-// without cracks must therefore hit at or before the target (certify's leak check, certify.h),
-// whatever the rest of the mesh is; directions that are not sealed are drawn again. A slivers
-// ray is sealed by the square itself: flat, and covered by its triangles without a gap.
+// An edges or vertices ray is *sealed* when, for the ray as stored (the float row):
+//  - seen along it, the two triangles of its edge (the fan of its vertex) cover a disc of radius
+//    1e-5 x the scene's extent around the point where it passes (not the point aimed at: the
+//    float origin lies up to half a spacing off, 0.25 at y = 4e6), and every one of them meets
+//    the ray at |cos| >= 0.1 (edges) or 0.05 (vertices); and
+//  - the double-precision truth (DoubleTracer::closest on the stored ray) hits one of those
+//    triangles within the default t tolerance (1e-5 x extent) of the target's t: nothing in
+//    front hides the target, and the float ray does meet it (far from the origin the rounded
+//    origin moved 43 % of the rays off their targets).
+// A tracer without cracks must then hit at or before the target (certify's leak check,
+// certify.h), and a leak there is a crack at this edge or vertex. A direction that is not sealed
+// is drawn again, up to 200 times; a target that never is keeps its last valid row, marked
+// unsealed (RayTarget::sealed): certify judges the row but does not count it as checked for
+// leaks. `notes` says how many.
+//
+// Every row is one `octrace trace` accepts (rayRowProblem, core/io/ray_file.h): a draw that
+// breaks the row rule (a NaN direction where the origin rounded onto the target point) is drawn
+// again and counted in `notes`, never written.
+// A slivers ray is sealed by the square itself: flat, and covered by its triangles without a gap.
 //
 // Same seed, same bytes, on every machine: each seeded set draws from its own std::mt19937_64
 // stream, seeded with splitmix64(seed + 0x9E3779B97F4A7C15 x (set id + 1)), using its raw output
@@ -103,6 +116,12 @@ struct RayTarget {
     // inside a triangle names the triangle's edge nearest to its point.
     uint32_t a = 0, b = 0;
     Vec3 pa{}, pb{};  // their positions
+    // The target's own triangles (primitive ids, ascending): the edge's two, the vertex's fan.
+    std::vector<uint32_t> triangles;
+    // Sealed as the header says: the truth hits one of `triangles` at t, so a crack-free tracer
+    // hits at or before t. False: no draw sealed it; the row tests nothing about the target and
+    // must not count as checked for leaks.
+    bool sealed = true;
     bool vertex() const { return a == b; }
 };
 
@@ -111,6 +130,8 @@ struct RaySet {
     std::vector<RaySetRange> sets;     // contiguous, in file order, covering every row
     std::vector<RayTarget> targets;    // edges, vertices and slivers rows, ascending row
     std::optional<FrameParams> frame;  // when there is a camera or shadow set
+    // What generating had to do, for the user: rows drawn again, targets left unsealed.
+    std::vector<std::string> notes;
     uint64_t count() const { return rays.size() / 8; }
     Ray ray(uint64_t i) const {
         const float* r = &rays[8 * i];
@@ -132,6 +153,14 @@ uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k);
 // Closest hits of a batch by a reference tracer: the shadow set needs the camera hits (the CLI
 // passes Embree from the backend list). May be empty when there is no shadow set.
 using TraceBatch = std::function<void(RayBatchView)>;
+
+// For each of `sets`, why it cannot be made on `scene`, or "" when it can: one that does not fit
+// the scene (raySetMisfit: a triangle-only set on a point cloud, the slivers set elsewhere than
+// on a slivers scene), edges on a mesh with no edge shared by exactly two triangles (a single
+// triangle), vertices with no vertex whose triangles close a fan (a quad). `octrace rays --set
+// all` leaves those out with a note; a set named explicitly is refused with the reason.
+std::vector<std::string> raySetsUnavailable(const Scene& scene,
+                                            const std::vector<const RaySetDesc*>& sets);
 
 // Throws std::invalid_argument for a null or repeated set, a set that does not fit the scene
 // (raySetMisfit), a shadow set without a reference, or a mesh offering no target (no shared

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/io/input_file.h"
 #include "core/io/output_file.h"
 #include "validation/rays/ray_manifest.h"
 #include "validation/report/report_util.h"
@@ -93,8 +94,12 @@ uint64_t GoldenReport::failures() const {
 }
 
 std::vector<uint8_t> readPngRgb(const std::string& path, int& width, int& height) {
+    // Read through the one input rule (a FIFO or device is refused unread), then decoded.
+    const std::string bytes = readSmallInput(path, "the golden PNG", kMaxGoldenPngBytes,
+                                             "restore it from git or rerun with --update");
     int channels = 0;
-    stbi_uc* px = stbi_load(path.c_str(), &width, &height, &channels, 3);
+    stbi_uc* px = stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()),
+                                        int(bytes.size()), &width, &height, &channels, 3);
     if (!px)
         throw IoError(path + ": cannot read the golden PNG (" + stbi_failure_reason() +
                       "); restore it from git or rerun with --update");

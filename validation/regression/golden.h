@@ -84,7 +84,9 @@ GoldenReport updateGolden(const std::string& dir, const std::string& root);
 nlohmann::json toJson(const GoldenReport& r);
 std::string humanSummary(const GoldenReport& r);
 
-// Decodes a PNG to RGB8 (stb_image); throws IoError naming `path` and what to do.
+// Decodes a PNG to RGB8 (stb_image); throws IoError naming `path` and what to do, also for a
+// path that is not a regular file or a file above kMaxGoldenPngBytes (refused unread).
+constexpr uint64_t kMaxGoldenPngBytes = uint64_t(256) << 20;
 std::vector<uint8_t> readPngRgb(const std::string& path, int& width, int& height);
 
 }  // namespace oct

@@ -1,10 +1,10 @@
 #include "validation/regression/regression_render.h"
 
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 #include "backends/backend_list.h"
+#include "core/io/input_file.h"
 #include "core/io/output_file.h"
 #include "core/octree/built_scene.h"
 #include "core/scene/load_scene.h"
@@ -21,12 +21,13 @@ bool isGenerated(const std::string& scene) { return findSceneGenerator(scene) !=
 }  // namespace
 
 json readRegressionJson(const std::string& path, const char* what) {
-    std::ifstream in(path);
-    if (!in)
-        throw IoError(path + ": cannot read the " + what +
-                      " (missing? docs/VALIDATION.md describes it; restore it from git)");
+    // Through the one input rule: a FIFO, device or directory is refused unread, a file above
+    // kMaxRegressionJsonBytes unread too.
+    const std::string text =
+        readSmallInput(path, std::string("the ") + what, kMaxRegressionJsonBytes,
+                       "docs/VALIDATION.md describes it; restore it from git");
     try {
-        return json::parse(in);
+        return json::parse(text);
     } catch (const json::exception& e) {
         throw IoError(path + ": not valid JSON (" + e.what() + "); restore it from git");
     }

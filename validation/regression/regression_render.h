@@ -43,7 +43,9 @@ std::vector<TracedFrame> renderRegressionFrames(const std::string& scene, const 
                                                 const std::string& file);
 
 // Reading the regression files (golden.json, cost_baselines.json): one-line IoErrors naming
-// the file and the field.
+// the file and the field; a path that is not a regular file, or a file above
+// kMaxRegressionJsonBytes, is refused unread (core/io/input_file.h).
+constexpr uint64_t kMaxRegressionJsonBytes = uint64_t(16) << 20;
 nlohmann::json readRegressionJson(const std::string& path, const char* what);
 namespace regression_detail {
 [[noreturn]] void badField(const std::string& file, const char* name, bool missing);
