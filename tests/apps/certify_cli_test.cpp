@@ -159,7 +159,7 @@ TEST_F(CertifyCli, SliversRaysMustAllHit) {
 
     r = run("rays " + quote(kCube) + " --set slivers --out " + q("C.npy"));
     EXPECT_TRUE(isOneLineError(r));
-    EXPECT_NE(r.err.find("needs a generated slivers:N scene"), std::string::npos) << show(r);
+    EXPECT_NE(r.err.find("needs a slivers:N scene"), std::string::npos) << show(r);
     r = run("rays " + quote(kCube) + " --count 90 --size 8x8 --out " + q("C.npy"));
     ASSERT_EQ(r.status, 0) << show(r);
     EXPECT_NE(r.out.find("set slivers left out: it needs a slivers:N scene"), std::string::npos)

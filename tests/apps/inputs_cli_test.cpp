@@ -295,8 +295,7 @@ TEST_F(InputsCli, ExitStatusIsTheVerdictOrTwoForBadInput) {
     oct::writeNpy(path("W.t.npy"), "<f4", t.shape, values, 4);
     fs::copy_file(path("H.prim.npy"), path("W.prim.npy"));
     RunResult r = run(certify(octtest::kCube, "W"));
-    EXPECT_EQ(r.status, 1) << show(r);
-    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_TRUE(octtest::isOneLineVerdict(r, 1));
     // Could not judge: 2.
     EXPECT_EQ(run(certify(octtest::kCube, "missing")).status, 2);
     std::vector<std::string> args = certify(octtest::kCube);

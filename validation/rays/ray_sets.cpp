@@ -731,8 +731,21 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
             throw std::invalid_argument("ray set '" + std::string(k->name) +
                                         "' needs a reference tracer for the camera hits");
     }
-    Context c{scene, spec.camera, reference, scene.bounds(), rootCube(scene), {}, 0.0f, 0.0, {}, {},
-              {},    {},          {},          {}, 0.0};
+    Context c{scene,
+              spec.camera,
+              reference,
+              scene.bounds(),
+              rootCube(scene),
+              {},
+              0.0f,
+              0.0,
+              {},
+              {},
+              {},
+              {},
+              {},
+              {},
+              0.0};
     c.centre = c.bounds.center();
     c.radius = 0.5f * length(c.bounds.extent());
     if (!(c.radius > 0.0f)) c.radius = 0.5f * length(c.root.extent());
