@@ -1,5 +1,6 @@
 // octrace certify: any tracer's answers for a ray file, judged per ray by the policy of
 // docs/VALIDATION.md (validation/certify.h, docs/CERTIFY.md); exit status as runCli's.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -73,6 +74,15 @@ void runCertify(const CertifyCliOptions& o) {
         if (!p.empty() && p != "-") checkWritable(p);
     setCpuThreadsFromOption(o.threads);
 
+    // Where the time goes, on every run (the phases line): the certify run is benchmarked
+    // against tracing the same rays (docs/PERFORMANCE.md).
+    auto clock = std::chrono::steady_clock::now();
+    auto lap = [&clock] {
+        const auto now = std::chrono::steady_clock::now();
+        const double s = std::chrono::duration<double>(now - clock).count();
+        clock = now;
+        return s;
+    };
     std::vector<float> rows = readRayFile(o.rays);
     const uint64_t n = rows.size() / 8;
     if (n == 0)
@@ -88,6 +98,7 @@ void runCertify(const CertifyCliOptions& o) {
         checkManifestRows(*manifest, n, o.rays);  // before the scene is loaded
     }
 
+    const double readSeconds = lap();
     LoadOptions lo;
     lo.radius = o.radius > 0.0f ? o.radius : (manifest && manifest->radius ? *manifest->radius : 0);
     Scene scene = loadScene(o.scene, lo);
@@ -95,8 +106,17 @@ void runCertify(const CertifyCliOptions& o) {
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
     std::vector<std::string> notes;
-    // raySetFromFile checks the scene against the manifest (checkSameScene) before it rebuilds.
-    RaySet rays = raySetFromFile(scene, std::move(rows), manifest, o.rays, notes);
+    // One double truth of the scene (the classifier's) seals the rebuilt targets and rechecks
+    // the answers. raySetFromFile checks the scene against the manifest (checkSameScene) before
+    // it rebuilds anything.
+    if (manifest) checkSameScene(*manifest, scene, o.rays);  // before building anything
+    const double loadSeconds = lap();
+    const auto start = std::chrono::steady_clock::now();
+    const HitClassifier classifier(scene, o.policy);
+    const double truthSeconds = lap();
+    RaySet rays =
+        raySetFromFile(scene, std::move(rows), manifest, o.rays, notes, &classifier.truth());
+    const double setsSeconds = lap();
     if (!o.diffImage.empty() && !rays.find("camera"))
         throw std::runtime_error(
             "--diff-image needs a camera set: make the rays with octrace "
@@ -105,7 +125,8 @@ void runCertify(const CertifyCliOptions& o) {
 
     CertifyOptions co;
     co.ownSets = o.queryText == "anyhit" ? QueryKind::AnyHit : QueryKind::Closest;
-    CertifyReport rep = certifyTracer(scene, rays, hits, o.policy, co);
+    CertifyReport rep = certifyTracer(classifier, rays, hits, co);
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     rep.require = o.requireText == "correct"      ? Require::Correct
                   : o.requireText == "watertight" ? Require::Watertight
                                                   : Require::All;
@@ -136,6 +157,11 @@ void runCertify(const CertifyCliOptions& o) {
         writeDiffImage(o.diffImage, cameraDiff(rep.result, rays), rep.policy.tTolerance);
         std::fprintf(human, "wrote    %s\n", o.diffImage.c_str());
     }
+    std::fprintf(human,
+                 "phases   read %.3f s, load scene %.3f s, double truth %.3f s, ray sets %.3f s, "
+                 "reference %.3f s, check %.3f s, report %.3f s\n",
+                 readSeconds, loadSeconds, truthSeconds, setsSeconds, rep.referenceSeconds,
+                 rep.checkSeconds, lap() - rep.referenceSeconds - rep.checkSeconds);
     std::fflush(stdout);
     const Outcome outcome = rep.outcome();
     if (outcome != Outcome::Pass)

@@ -85,7 +85,7 @@ Finding finding(const HitClassifier& c, const RaySet& rays, const HitArrays& our
     auto it = slot.find(i);
     if (it != slot.end()) {
         f.rechecked = true;
-        f.truth = verdict[it->second].truth;
+        f.truth = c.truthOf(f.ray, verdict[it->second]);
         f.ours.prim = inferred[it->second];
     } else if (f.ours.prim == kUnknownPrim) {
         f.ours.prim = 0;  // past the cap: never inferred
@@ -220,7 +220,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             o.prim = c.surfacePrimitive(ray, o.t, on);
         }
         inferred[k] = o.prim;
-        verdict[k] = anyHit[i] ? c.recheckAnyHit(ray, o) : c.recheckClosest(ray, o);
+        const Hit r = ref.at(i);
+        verdict[k] = anyHit[i] ? c.recheckAnyHit(ray, o, r) : c.recheckClosest(ray, o, r);
     });
     std::unordered_map<uint64_t, size_t> slot;
     for (size_t k = 0; k < recheck.size(); ++k) {
@@ -229,9 +230,12 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         slot[recheck[k]] = k;
     }
 
-    // Pass 3: the leak check of the targets. A target ray passes when it hit a surface (its
-    // reported primitive, or with --no-prim any) at or before the target; any other answer is a
-    // candidate, a leak when the truth meets the target's sealed surface on the stored ray.
+    // Pass 3: the leak check of the targets. A target the generator could not seal tests
+    // nothing (unsealed). A sealed one passes when the ray hit a surface (its reported primitive,
+    // or with --no-prim any) at or before the target, within the t tolerance or the float error
+    // bound of the primitive it reports (a sliver's t may legitimately run late: hitTError);
+    // any other answer is a candidate, a leak when the truth meets the target's sealed surface
+    // on the stored ray.
     std::vector<uint8_t> leak(n, uint8_t(LeakState::NotTarget));
     std::vector<LeakFinding> leaks(rays.targets.size());
     {
@@ -240,7 +244,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         std::vector<uint8_t> isCandidate(rays.targets.size(), 0);
         parallelFor(rays.targets.size(), [&](size_t k) {
             const RayTarget& tg = rays.targets[k];
-            if (tg.row >= n) return;
+            if (tg.row >= n || !tg.sealed) return;
             const Ray ray = rays.ray(tg.row);
             const float t = ours.t[tg.row];
             Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
@@ -249,13 +253,18 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                 o.prim = c.surfacePrimitive(ray, t, on);
             }
             const bool sealedHere =
-                o.prim >= 0 && c.onSurface(ray, o) && double(t) <= tg.t + tTolerance(c, ray);
+                o.prim >= 0 && c.onSurface(ray, o) &&
+                double(t) <= tg.t + std::max(tTolerance(c, ray), c.hitTError(ray, o.prim));
             leaks[k].got = o;
             isCandidate[k] = !sealedHere;
         });
         for (size_t k = 0; k < rays.targets.size(); ++k) {
             const RayTarget& tg = rays.targets[k];
             if (tg.row >= n) throw std::invalid_argument("certifyRays: target row beyond the rays");
+            if (!tg.sealed) {
+                leak[tg.row] = uint8_t(LeakState::Unsealed);
+                continue;
+            }
             if (!isCandidate[k]) {
                 leak[tg.row] = uint8_t(LeakState::Sealed);
                 continue;
@@ -266,7 +275,11 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             f.ray = rays.ray(tg.row);
             for (const RaySetRange& s : rays.sets)
                 if (tg.row >= s.begin && tg.row < s.begin + s.count) f.set = s.name;
-            if (perSet[f.set]++ < pol.maxRechecks) {
+            if (!tg.triangles.empty()) {
+                // Sealed by its generator in this run (the rows were rebuilt): the truth meets
+                // one of the target's own triangles at the target; no search needed.
+                leak[tg.row] = uint8_t(LeakState::Leak);
+            } else if (perSet[f.set]++ < pol.maxRechecks) {
                 candidates.push_back(k);
             } else {
                 f.rechecked = false;
@@ -277,8 +290,13 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const size_t k = candidates[m];
             LeakFinding& f = leaks[k];
             f.truth = c.truth().closest(toDoubleRay(f.ray));
-            const bool sealed =
-                f.truth.prim >= 0 && double(f.truth.t) <= f.target.t + tTolerance(c, f.ray);
+            // The truth meets the target: one of its own triangles when the generator names
+            // them (edges, vertices), else anything at or before it (the slivers square).
+            const std::vector<uint32_t>& own = f.target.triangles;
+            const bool onTarget =
+                own.empty() || std::binary_search(own.begin(), own.end(), uint32_t(f.truth.prim));
+            const bool sealed = f.truth.prim >= 0 && onTarget &&
+                                double(f.truth.t) <= f.target.t + tTolerance(c, f.ray);
             leak[f.index] = uint8_t(sealed ? LeakState::Leak : LeakState::Unsealed);
         });
     }
@@ -341,7 +359,10 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const RayTarget& tg = rays.targets[k];
             if (tg.row < s.begin || tg.row >= s.begin + s.count) continue;
             if (leak[tg.row] != uint8_t(LeakState::Leak)) continue;
-            if (int(sc.leakList.size()) < pol.worstCount) sc.leakList.push_back(leaks[k]);
+            if (int(sc.leakList.size()) >= pol.worstCount) continue;
+            LeakFinding f = leaks[k];
+            if (!tg.triangles.empty()) f.truth = c.truth().closest(toDoubleRay(f.ray));
+            sc.leakList.push_back(f);
         }
         out.all.merge(sc.counts);
         if (!sc.adversarial) out.strict.merge(sc.counts);
@@ -428,13 +449,23 @@ Outcome CertifyReport::outcome() const {
 CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArrays& ours,
                             const ValidationPolicy& policy, const CertifyOptions& options) {
     const auto start = std::chrono::steady_clock::now();
+    const HitClassifier classifier(scene, policy);
+    CertifyReport rep = certifyTracer(classifier, rays, ours, options);
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return rep;
+}
+
+CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
+                            const HitArrays& ours, const CertifyOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
+    const Scene& scene = classifier.scene();
     CertifyReport rep;
     rep.primIds = ours.primIds;
-    if (scene.kind == PrimKind::Triangles) rep.topology = summarize(meshTopology(scene));
-    HitClassifier classifier(scene, policy);
+    if (scene.kind == PrimKind::Triangles)
+        rep.topology = summarize(rays.mesh ? rays.mesh->topology : meshTopology(scene));
     static_cast<JudgedScene&>(rep) = judgedScene(scene, classifier);
 
     auto t0 = std::chrono::steady_clock::now();

@@ -137,5 +137,9 @@ struct CertifyReport : JudgedScene {
 // Traces `rays` with Embree (robust mode) as the reference and certifies `ours` against it.
 CertifyReport certifyTracer(const Scene& scene, const RaySet& rays, const HitArrays& ours,
                             const ValidationPolicy& policy, const CertifyOptions& options = {});
+// The same with a classifier of the scene made beforehand (its double truth can seal the ray
+// sets' targets too: raySetFromFile).
+CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
+                            const HitArrays& ours, const CertifyOptions& options = {});
 
 }  // namespace oct

@@ -23,9 +23,13 @@ static_assert(sizeof(Aabb) == 24, "Aabb is two Vec3");
 inline Aabb emptyAabb() {
     return {{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
 }
+// The same box as vmin/vmax would give (fminf/fmaxf keep their first operand on a tie, and a
+// NaN point never replaces a bound), by compare and select, which GCC inlines and vectorises
+// instead of calling libm: Scene::bounds over a million triangles is called a few dozen times
+// per certify run.
 inline void grow(Aabb& b, Vec3 p) {
-    b.lo = vmin(b.lo, p);
-    b.hi = vmax(b.hi, p);
+    b.lo = {p.x < b.lo.x ? p.x : b.lo.x, p.y < b.lo.y ? p.y : b.lo.y, p.z < b.lo.z ? p.z : b.lo.z};
+    b.hi = {b.hi.x < p.x ? p.x : b.hi.x, b.hi.y < p.y ? p.y : b.hi.y, b.hi.z < p.z ? p.z : b.hi.z};
 }
 
 // Child i of a box split at its centre. Bit 0 of i selects the upper half in x, bit 1 in y,

@@ -60,16 +60,30 @@ MeshTopology meshTopology(const Scene& scene) {
             t.corners[i][k] = it->second;
         }
     }
-    // Edges: (a, b, triangle) for the three sides of every triangle, sorted, then grouped.
-    std::vector<std::array<uint32_t, 3>> sides;
-    sides.reserve(3 * n);
-    for (size_t i = 0; i < n; ++i)
-        for (int k = 0; k < 3; ++k) {
+    // Edges: (a, b, triangle) for the three sides of every triangle, sorted, then grouped. The
+    // sort is by a counting pass over a (the smaller vertex id), which leaves each a's sides in
+    // triangle order, then by (b, triangle) within each a: the lexicographic order of a sort of
+    // them all, in linear time plus a few sides per vertex.
+    std::vector<std::array<uint32_t, 3>> sides(3 * n);
+    {
+        std::vector<uint32_t> start(t.vertices.size() + 1, 0);
+        auto side = [&](size_t i, int k) {
             uint32_t a = t.corners[i][k], b = t.corners[i][(k + 1) % 3];
-            if (a > b) std::swap(a, b);
-            sides.push_back({a, b, uint32_t(i)});
-        }
-    std::sort(sides.begin(), sides.end());
+            return a < b ? std::array<uint32_t, 3>{a, b, uint32_t(i)}
+                         : std::array<uint32_t, 3>{b, a, uint32_t(i)};
+        };
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k) ++start[side(i, k)[0] + 1];
+        for (size_t v = 0; v < t.vertices.size(); ++v) start[v + 1] += start[v];
+        std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k) {
+                const std::array<uint32_t, 3> s = side(i, k);
+                sides[fill[s[0]]++] = s;
+            }
+        for (size_t v = 0; v < t.vertices.size(); ++v)
+            std::sort(sides.begin() + start[v], sides.begin() + start[v + 1]);
+    }
     for (size_t i = 0; i < sides.size();) {
         size_t j = i;
         MeshEdge e{sides[i][0], sides[i][1], 0, {0, 0}};

@@ -83,7 +83,17 @@ void expectSameAnswers(const Scene& scene, int rays, uint64_t seed) {
         const Hit a = truth.closest(r), b = truth.closestBrute(r);
         ASSERT_EQ(a.prim, b.prim) << scene.name;
         ASSERT_TRUE(sameBits(a.t, b.t)) << scene.name;
-        ASSERT_EQ(truth.allHits(r), truth.allHitsBrute(r)) << scene.name;
+        const auto all = truth.allHitsBrute(r);
+        ASSERT_EQ(truth.allHits(r), all) << scene.name;
+        // One at a time, in the same order, and stopping where the caller says.
+        std::vector<std::pair<double, uint32_t>> inOrder, firstTwo;
+        truth.hitsInOrder(r, [&](double t, uint32_t p) { return inOrder.push_back({t, p}), true; });
+        ASSERT_EQ(inOrder, all) << scene.name;
+        truth.hitsInOrder(r, [&](double t, uint32_t p) {
+            firstTwo.push_back({t, p});
+            return firstTwo.size() < 2;
+        });
+        ASSERT_EQ(firstTwo.size(), std::min<size_t>(all.size(), 2)) << scene.name;
         ASSERT_EQ(truth.touchinessNear(r), truth.touchinessNearBrute(r)) << scene.name;
         // A touch distance beyond the BVH's growth (far rays' float error bound).
         ASSERT_EQ(truth.touchinessNear(r, 3e-4 * extent),

@@ -81,8 +81,14 @@ TEST_F(HitCheck, MissingAClearHitIsWrong) {
     Verdict v = c.closest(down(0.7f, 0.2f), {INFINITY, -1}, {1.0f, 0});
     EXPECT_EQ(v.cls, HitClass::Wrong);
     EXPECT_TRUE(v.rechecked);
-    EXPECT_EQ(v.truth.prim, 0);
-    EXPECT_FLOAT_EQ(v.truth.t, 1.0f);
+    EXPECT_EQ(v.reasons, uint32_t(kMissedHit));
+    const Hit truth = c.truthOf(down(0.7f, 0.2f), v);  // found when a report asks for it
+    EXPECT_EQ(truth.prim, 0);
+    EXPECT_FLOAT_EQ(truth.t, 1.0f);
+    // Without the reference's hit to try first, the search finds it: the same verdict.
+    Verdict alone = c.recheckClosest(down(0.7f, 0.2f), {INFINITY, -1});
+    EXPECT_EQ(alone.cls, HitClass::Wrong);
+    EXPECT_EQ(alone.reasons, uint32_t(kMissedHit));
 }
 
 TEST_F(HitCheck, AHitTheTruthDoesNotConfirmIsWrong) {
@@ -111,7 +117,7 @@ TEST_F(HitCheck, AWrongPrimitiveAtTheRightDistanceIsWrong) {
     Verdict v = c.closest(down(0.7f, 0.2f), {1.0f, 1}, {1.0f, 0});
     EXPECT_EQ(v.cls, HitClass::Wrong) << hitClassName(v.cls) << " " << reasonNames(v.reasons);
     EXPECT_TRUE(v.rechecked);
-    EXPECT_EQ(v.truth.prim, 0);
+    EXPECT_EQ(c.truthOf(down(0.7f, 0.2f), v).prim, 0);  // found when a report asks for it
     // The far triangle: the same.
     EXPECT_EQ(c.closest(down(0.7f, 0.2f), {1.0f, 2}, {1.0f, 0}).cls, HitClass::Wrong);
 }
@@ -157,12 +163,19 @@ TEST_F(HitCheck, GrazingRayIsAmbiguous) {
     // Nearly parallel to the quad (cos 1e-4): a tiny offset of the plane moves t a lot.
     Vec3 d = normalize(Vec3{1.0f, 0.0f, -1e-4f});
     Ray r = {{-0.5f, 0.3f, 1e-4f * 0.7f}, d, 0, INFINITY};
-    float tTruth = c.truth().closest(toDoubleRay(r)).t;
-    ASSERT_TRUE(std::isfinite(tTruth));
-    float tOff = tTruth + 0.05f;  // our hit point is 5e-6 off the plane: a grazing t
-    Verdict v = c.closest(r, {tOff, 0}, {tTruth, 0});
+    const Hit truth = c.truth().closest(toDoubleRay(r));
+    ASSERT_TRUE(std::isfinite(truth.t));
+    // Our hit point on the same triangle, 5e-6 off its plane: a grazing t, within what a float
+    // test's t may be off by for this ray (the surface bound).
+    const float tOff = truth.t + 0.05f;
+    Verdict v = c.closest(r, {tOff, truth.prim}, {truth.t, truth.prim});
     EXPECT_EQ(v.cls, HitClass::Ambiguous) << reasonNames(v.reasons);
     EXPECT_TRUE(v.reasons & kGrazing);
+    // The same point reported on the other triangle, 0.035 across the diagonal from it: off its
+    // surface, whatever is touchy about the ray.
+    v = c.closest(r, {tOff, 1 - truth.prim}, {truth.t, truth.prim});
+    EXPECT_EQ(v.cls, HitClass::Wrong) << reasonNames(v.reasons);
+    EXPECT_EQ(v.reasons, uint32_t(kOffSurface));
 }
 
 TEST_F(HitCheck, OcclusionRecheck) {

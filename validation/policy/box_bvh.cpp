@@ -10,8 +10,10 @@ namespace oct {
 namespace {
 
 constexpr uint32_t kLeafSize = 4;
-// gamma_4 of double arithmetic (PBRT: n eps / (1 - n eps), eps = 2^-53).
-constexpr double kGamma4 = 4.0 * 0x1p-53 / (1.0 - 4.0 * 0x1p-53);
+constexpr int kBins = 16;  // SAH bins per split
+// The parallel build: subtrees of at least this many boxes, in the top levels, are tasks.
+constexpr uint32_t kParallelGrain = 50000;
+constexpr int kParallelDepth = 4;
 
 DBox emptyBox() {
     const double inf = std::numeric_limits<double>::infinity();
@@ -23,6 +25,16 @@ void grow(DBox& b, const DBox& o) {
         b.lo[a] = std::min(b.lo[a], o.lo[a]);
         b.hi[a] = std::max(b.hi[a], o.hi[a]);
     }
+}
+
+// The nearest float at or below x, at or above x (infinities stay: an empty box stays empty).
+float floatBelow(double x) {
+    const float f = float(x);
+    return double(f) > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+}
+float floatAbove(double x) {
+    const float f = float(x);
+    return double(f) < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
 }
 
 // The box grown by pad, rounded outwards (the sum rounds to nearest; one step further out
@@ -41,81 +53,187 @@ DBox padded(const DBox& b, double pad) {
 BoxBvh::BoxBvh(const std::vector<DBox>& boxes, double pad) {
     if (boxes.size() >= std::numeric_limits<uint32_t>::max())
         throw std::length_error("BoxBvh: more than 2^32 - 1 boxes");
+    const int64_t n = int64_t(boxes.size());
     std::vector<DBox> grown(boxes.size());
     std::vector<double> centres(3 * boxes.size());
-    for (size_t i = 0; i < boxes.size(); ++i) {
-        grown[i] = padded(boxes[i], pad);
-        for (int a = 0; a < 3; ++a) centres[3 * i + a] = 0.5 * (boxes[i].lo[a] + boxes[i].hi[a]);
+#pragma omp parallel for schedule(static)
+    for (int64_t i = 0; i < n; ++i) {
+        grown[size_t(i)] = padded(boxes[size_t(i)], pad);
+        for (int a = 0; a < 3; ++a)
+            centres[3 * size_t(i) + a] = 0.5 * (boxes[size_t(i)].lo[a] + boxes[size_t(i)].hi[a]);
     }
     if (boxes.empty()) return;
     std::vector<uint32_t> ids(boxes.size());
     std::iota(ids.begin(), ids.end(), 0u);
-    nodes_.reserve(2 * boxes.size() / kLeafSize + 1);
-    nodes_.push_back({});
-    build(0, ids, 0, uint32_t(ids.size()), grown, centres, 0);
+    const Inputs in{ids, grown, centres};
+    const Bounds all = boundsOf(in, 0, uint32_t(ids.size()));
+#pragma omp parallel
+#pragma omp single
+    nodes_ = subtree(in, 0, uint32_t(ids.size()), 0, all);
     prims_ = std::move(ids);
 }
 
-// Builds node `self` over ids[begin, end): a leaf of at most kLeafSize, or a split at the median
-// of the centres along the axis of their largest spread, into two adjacent children (depth at
-// most log2(n) + 1, so the traversal stacks of kStack entries never overflow).
-void BoxBvh::build(uint32_t self, std::vector<uint32_t>& ids, uint32_t begin, uint32_t end,
-                   const std::vector<DBox>& boxes, const std::vector<double>& centres, int depth) {
-    DBox box = emptyBox(), spread = emptyBox();
+double halfArea(const DBox& b) {
+    const double x = b.hi[0] - b.lo[0], y = b.hi[1] - b.lo[1], z = b.hi[2] - b.lo[2];
+    return x * y + y * z + z * x;
+}
+
+// The boxes and the centres' bounds of ids[begin, end).
+BoxBvh::Bounds BoxBvh::boundsOf(const Inputs& in, uint32_t begin, uint32_t end) {
+    Bounds b{emptyBox(), emptyBox()};
     for (uint32_t k = begin; k < end; ++k) {
-        grow(box, boxes[ids[k]]);
-        const double* c = &centres[3 * ids[k]];
-        grow(spread, {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}});
+        grow(b.box, in.boxes[in.ids[k]]);
+        const double* c = &in.centres[3 * in.ids[k]];
+        grow(b.centres, {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}});
     }
-    nodes_[self].box = box;
+    return b;
+}
+
+// Gives `node` the box of ids[begin, end) (`mine`, made by the parent) and decides: a leaf of at
+// most kLeafSize, or a split (returned in `mid`, with each side's bounds; ids reordered around
+// it) by the surface area heuristic over kBins bins of the centres along the axis of their
+// largest spread (MacDonald & Booth 1990; binned after Wald, "On fast construction of SAH-based
+// bounding volume hierarchies", 2007), or at the median when the bins cannot split. One pass
+// bins the boxes and centres, a second partitions. A forced leaf past kStack - 2 levels keeps
+// the traversal stacks from overflowing (it only costs time).
+bool BoxBvh::split(Node& node, const Inputs& in, uint32_t begin, uint32_t end, int depth,
+                   const Bounds& mine, uint32_t& mid, Bounds& left, Bounds& right) {
+    for (int a = 0; a < 3; ++a) {
+        node.box.lo[a] = floatBelow(mine.box.lo[a]);
+        node.box.hi[a] = floatAbove(mine.box.hi[a]);
+    }
     int axis = 0;
     double widest = -1.0;
     for (int a = 0; a < 3; ++a)
-        if (spread.hi[a] - spread.lo[a] > widest) {
-            widest = spread.hi[a] - spread.lo[a];
+        if (mine.centres.hi[a] - mine.centres.lo[a] > widest) {
+            widest = mine.centres.hi[a] - mine.centres.lo[a];
             axis = a;
         }
     if (end - begin <= kLeafSize || !(widest > 0.0) || depth + 2 >= kStack) {
-        nodes_[self].first = begin;
-        nodes_[self].count = end - begin;
-        return;
+        node.first = begin;
+        node.count = end - begin;
+        return false;
     }
-    const uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(ids.begin() + begin, ids.begin() + mid, ids.begin() + end,
+    node.count = 0;
+    const std::vector<double>& centres = in.centres;
+    const double lo = mine.centres.lo[axis], scale = kBins / widest;
+    auto binOf = [&](uint32_t id) {
+        const int b = int((centres[3 * id + axis] - lo) * scale);
+        return b < 0 ? 0 : (b >= kBins ? kBins - 1 : b);
+    };
+    Bounds bins[kBins];
+    uint32_t counts[kBins] = {};
+    for (Bounds& b : bins) b = {emptyBox(), emptyBox()};
+    for (uint32_t k = begin; k < end; ++k) {
+        const uint32_t id = in.ids[k];
+        const int b = binOf(id);
+        ++counts[b];
+        grow(bins[b].box, in.boxes[id]);
+        const double* c = &centres[3 * id];
+        grow(bins[b].centres, {{c[0], c[1], c[2]}, {c[0], c[1], c[2]}});
+    }
+    // Cost of splitting after bin i: area x count of each side (the sweep from the right first).
+    double rightCost[kBins];
+    Bounds acc{emptyBox(), emptyBox()};
+    uint32_t n = 0;
+    for (int i = kBins - 1; i > 0; --i) {
+        grow(acc.box, bins[i].box);
+        n += counts[i];
+        rightCost[i] = n ? halfArea(acc.box) * n : 0.0;
+    }
+    int best = -1;
+    double bestCost = INFINITY;
+    acc = {emptyBox(), emptyBox()};
+    n = 0;
+    for (int i = 0; i < kBins - 1; ++i) {
+        grow(acc.box, bins[i].box);
+        n += counts[i];
+        if (n == 0 || n == end - begin) continue;
+        const double cost = halfArea(acc.box) * n + rightCost[i + 1];
+        if (cost < bestCost) {
+            bestCost = cost;
+            best = i;
+        }
+    }
+    if (best >= 0) {
+        auto it = std::partition(in.ids.begin() + begin, in.ids.begin() + end,
+                                 [&](uint32_t id) { return binOf(id) <= best; });
+        mid = uint32_t(it - in.ids.begin());
+        if (mid > begin && mid < end) {
+            left = right = {emptyBox(), emptyBox()};
+            for (int i = 0; i < kBins; ++i) {
+                Bounds& side = i <= best ? left : right;
+                grow(side.box, bins[i].box);
+                grow(side.centres, bins[i].centres);
+            }
+            return true;
+        }
+    }
+    mid = begin + (end - begin) / 2;
+    std::nth_element(in.ids.begin() + begin, in.ids.begin() + mid, in.ids.begin() + end,
                      [&](uint32_t x, uint32_t y) {
                          const double cx = centres[3 * x + axis], cy = centres[3 * y + axis];
                          return cx < cy || (cx == cy && x < y);
                      });
-    const uint32_t left = uint32_t(nodes_.size());
-    nodes_.push_back({});
-    nodes_.push_back({});
-    nodes_[self].first = left;
-    nodes_[self].count = 0;
-    build(left, ids, begin, mid, boxes, centres, depth + 1);
-    build(left + 1, ids, mid, end, boxes, centres, depth + 1);
+    left = boundsOf(in, begin, mid);
+    right = boundsOf(in, mid, end);
+    return true;
 }
 
-bool BoxBvh::slabs(const Node& n, const double org[3], const double inv[3], double t0, double t1,
-                   double more, double& tEnter) const {
-    for (int a = 0; a < 3; ++a) {
-        const double lo = n.box.lo[a] - more, hi = n.box.hi[a] + more;
-        if (std::isinf(inv[a])) {  // parallel to the slab: inside it for all t, or never
-            if (org[a] < lo || org[a] > hi) return false;
-            continue;
-        }
-        double tn = (lo - org[a]) * inv[a];
-        double tf = (hi - org[a]) * inv[a];
-        if (tn > tf) std::swap(tn, tf);
-        // Conservative for the exact box: each distance is within gamma_4 |t| of the exact one
-        // (two differences, a reciprocal, a product), so the interval grows by that much.
-        tf += 2.0 * kGamma4 * std::fabs(tf);
-        tn -= 2.0 * kGamma4 * std::fabs(tn);
-        if (tn > t0) t0 = tn;
-        if (tf < t1) t1 = tf;
-        if (t0 > t1) return false;
+// The subtree over ids[begin, end) as its own node array, root at 0, children adjacent. The top
+// levels of a large tree build their two halves as parallel tasks and splice them: the root, the
+// two roots, then each half's other nodes; a half's indices move by where it landed. The tree is
+// the one a serial build makes.
+std::vector<BoxBvh::Node> BoxBvh::subtree(const Inputs& in, uint32_t begin, uint32_t end, int depth,
+                                          const Bounds& mine) {
+    std::vector<Node> nodes(1);
+    if (end - begin < kParallelGrain || depth >= kParallelDepth) {
+        nodes.reserve(2 * (end - begin) / kLeafSize + 1);
+        build(nodes, 0, in, begin, end, depth, mine);
+        return nodes;
     }
-    tEnter = t0;
-    return true;
+    uint32_t mid = 0;
+    Bounds sides[2];
+    if (!split(nodes[0], in, begin, end, depth, mine, mid, sides[0], sides[1])) return nodes;
+    std::vector<Node> halves[2];
+#pragma omp task shared(halves, in, sides)
+    halves[0] = subtree(in, begin, mid, depth + 1, sides[0]);
+#pragma omp task shared(halves, in, sides)
+    halves[1] = subtree(in, mid, end, depth + 1, sides[1]);
+#pragma omp taskwait
+    nodes.resize(3);
+    nodes[0].first = 1;
+    // Index i > 0 of half h lands at rest[h] + i - 1; its root at 1 + h.
+    const uint32_t rest[2] = {3u, 3u + uint32_t(halves[0].size()) - 1u};
+    for (int h = 0; h < 2; ++h) {
+        auto place = [&](uint32_t i) { return i == 0 ? uint32_t(1 + h) : rest[h] + i - 1; };
+        for (uint32_t i = 0; i < halves[h].size(); ++i) {
+            Node n = halves[h][i];
+            if (n.count == 0) n.first = place(n.first);
+            if (i == 0)
+                nodes[1 + h] = n;
+            else
+                nodes.push_back(n);
+        }
+    }
+    return nodes;
+}
+
+// Builds node `self` of `nodes` (and its subtree, appended) over ids[begin, end).
+void BoxBvh::build(std::vector<Node>& nodes, uint32_t self, const Inputs& in, uint32_t begin,
+                   uint32_t end, int depth, const Bounds& mine) {
+    uint32_t mid = 0;
+    Node node;
+    Bounds left, right;
+    const bool inner = split(node, in, begin, end, depth, mine, mid, left, right);
+    nodes[self] = node;
+    if (!inner) return;
+    const uint32_t first = uint32_t(nodes.size());
+    nodes.push_back({});
+    nodes.push_back({});
+    nodes[self].first = first;
+    build(nodes, first, in, begin, mid, depth + 1, left);
+    build(nodes, first + 1, in, mid, end, depth + 1, right);
 }
 
 double BoxBvh::boxDistance2(const Node& n, const double p[3]) const {

@@ -7,6 +7,8 @@
 // arithmetic is never culled.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +30,13 @@ public:
     void segment(const double org[3], const double dir[3], double t0, double t1, F&& f,
                  double more = 0.0) const;
 
+    // Every hit on the segment in ascending t (equal t: ascending id), in one best-first
+    // traversal: hitAt(prim, t) says whether the primitive is hit and where; emit(t, prim) gets
+    // each hit once no box left unopened can hold an earlier one, and returns false to stop.
+    template <class H, class E>
+    void ordered(const double org[3], const double dir[3], double t0, double t1, H&& hitAt,
+                 E&& emit) const;
+
     // Calls dist(prim) for the primitives whose grown box lies within `best` of p, nearest box
     // first, where dist returns the primitive's exact distance (and the caller keeps the best
     // one); boxes farther than the best distance so far are skipped.
@@ -37,20 +46,46 @@ public:
     uint32_t nodeCount() const { return uint32_t(nodes_.size()); }
 
 private:
-    // 56 bytes: the box (48), then for an internal node the index of its first child (the
-    // second follows it) with count 0, for a leaf its first entry in prims_ and the count.
+    // 32 bytes: the box in float, rounded outwards from the double one (24: half the bytes a
+    // traversal reads, and still conservative), then for an internal node the index of its
+    // first child (the second follows it) with count 0, for a leaf its first entry in prims_
+    // and the count.
+    struct FBox {
+        float lo[3], hi[3];
+    };
     struct Node {
-        DBox box;
+        FBox box;
         uint32_t first;
         uint32_t count;
     };
     static constexpr int kStack = 64;  // depth bound: the build splits at the median at worst
 
-    bool slabs(const Node& n, const double org[3], const double inv[3], double t0, double t1,
-               double more, double& tEnter) const;
+    // A segment query's per-ray constants: the slab test reads the near and far plane of each
+    // axis without a swap, and an axis the ray runs parallel to by containment.
+    struct Query {
+        double org[3], inv[3];
+        int nearHi[3];     // 1: the near plane is the box's hi (the ray runs towards -axis)
+        bool parallel[3];  // a zero direction component
+        double more;
+    };
+    static Query query(const double org[3], const double dir[3], double more);
+    bool slabs(const Node& n, const Query& q, double t0, double t1, double& tEnter) const;
     double boxDistance2(const Node& n, const double p[3]) const;
-    void build(uint32_t self, std::vector<uint32_t>& ids, uint32_t begin, uint32_t end,
-               const std::vector<DBox>& boxes, const std::vector<double>& centres, int depth);
+    struct Inputs {
+        std::vector<uint32_t>& ids;
+        const std::vector<DBox>& boxes;
+        const std::vector<double>& centres;
+    };
+    struct Bounds {
+        DBox box, centres;
+    };
+    static Bounds boundsOf(const Inputs& in, uint32_t begin, uint32_t end);
+    static bool split(Node& node, const Inputs& in, uint32_t begin, uint32_t end, int depth,
+                      const Bounds& mine, uint32_t& mid, Bounds& left, Bounds& right);
+    static std::vector<Node> subtree(const Inputs& in, uint32_t begin, uint32_t end, int depth,
+                                     const Bounds& mine);
+    static void build(std::vector<Node>& nodes, uint32_t self, const Inputs& in, uint32_t begin,
+                      uint32_t end, int depth, const Bounds& mine);
 
     std::vector<Node> nodes_;
     std::vector<uint32_t> prims_;
@@ -62,8 +97,7 @@ template <class F>
 void BoxBvh::segment(const double org[3], const double dir[3], double t0, double t1, F&& f,
                      double more) const {
     if (nodes_.empty()) return;
-    double inv[3];
-    for (int a = 0; a < 3; ++a) inv[a] = 1.0 / dir[a];  // +-inf for a zero component
+    const Query q = query(org, dir, more);
     struct Entry {
         uint32_t node;
         double tEnter;
@@ -71,7 +105,7 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
     Entry stack[kStack];
     int top = 0;
     double tEnter;
-    if (!slabs(nodes_[0], org, inv, t0, t1, more, tEnter)) return;
+    if (!slabs(nodes_[0], q, t0, t1, tEnter)) return;
     stack[top++] = {0, tEnter};
     while (top > 0) {
         const Entry e = stack[--top];
@@ -85,8 +119,8 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
             continue;
         }
         double ta, tb;
-        const bool ha = slabs(nodes_[n.first], org, inv, t0, t1, more, ta);
-        const bool hb = slabs(nodes_[n.first + 1], org, inv, t0, t1, more, tb);
+        const bool ha = slabs(nodes_[n.first], q, t0, t1, ta);
+        const bool hb = slabs(nodes_[n.first + 1], q, t0, t1, tb);
         // Nearest popped first: push the farther one first.
         if (ha && hb) {
             const bool aFirst = ta <= tb;
@@ -97,6 +131,96 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
         } else if (hb) {
             stack[top++] = {n.first + 1, tb};
         }
+    }
+}
+
+inline BoxBvh::Query BoxBvh::query(const double org[3], const double dir[3], double more) {
+    Query q;
+    for (int a = 0; a < 3; ++a) {
+        q.org[a] = org[a];
+        q.parallel[a] = dir[a] == 0.0 || std::isinf(1.0 / dir[a]);
+        q.inv[a] = q.parallel[a] ? 0.0 : 1.0 / dir[a];
+        q.nearHi[a] = dir[a] < 0.0;
+    }
+    q.more = more;
+    return q;
+}
+
+// Conservative for the exact box: each plane distance is within gamma_4 |t| of the exact one
+// (two differences, a reciprocal, a product), and widening is monotone, so the interval of the
+// planes' distances is widened once, after the per-axis minimum and maximum.
+inline bool BoxBvh::slabs(const Node& n, const Query& q, double t0, double t1,
+                          double& tEnter) const {
+    constexpr double kWiden = 2.0 * 4.0 * 0x1p-53 / (1.0 - 4.0 * 0x1p-53);  // 2 gamma_4
+    double lo = -INFINITY, hi = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        const double boxLo = n.box.lo[a] - q.more, boxHi = n.box.hi[a] + q.more;
+        if (q.parallel[a]) {  // inside the slab for all t, or never
+            if (q.org[a] < boxLo || q.org[a] > boxHi) return false;
+            continue;
+        }
+        const double tn = ((q.nearHi[a] ? boxHi : boxLo) - q.org[a]) * q.inv[a];
+        const double tf = ((q.nearHi[a] ? boxLo : boxHi) - q.org[a]) * q.inv[a];
+        lo = tn > lo ? tn : lo;
+        hi = tf < hi ? tf : hi;
+    }
+    lo -= kWiden * std::fabs(lo);
+    hi += kWiden * std::fabs(hi);
+    tEnter = lo > t0 ? lo : t0;
+    return tEnter <= (hi < t1 ? hi : t1);
+}
+
+template <class H, class E>
+void BoxBvh::ordered(const double org[3], const double dir[3], double t0, double t1, H&& hitAt,
+                     E&& emit) const {
+    if (nodes_.empty()) return;
+    const Query q = query(org, dir, 0.0);
+    struct Box {
+        double tEnter;
+        uint32_t node;
+        bool operator<(const Box& o) const { return tEnter > o.tEnter; }  // min-heap
+    };
+    struct Found {
+        double t;
+        uint32_t prim;
+        bool operator<(const Found& o) const {  // min-heap by (t, id)
+            return t > o.t || (t == o.t && prim > o.prim);
+        }
+    };
+    std::vector<Box> boxes;
+    std::vector<Found> found;
+    double tEnter;
+    if (!slabs(nodes_[0], q, t0, t1, tEnter)) return;
+    boxes.push_back({tEnter, 0});
+    while (!boxes.empty() || !found.empty()) {
+        // Emit what no unopened box can precede (a box entered at the same t may hold the same
+        // t with a lower id: it is opened first).
+        while (!found.empty() && (boxes.empty() || found.front().t < boxes.front().tEnter)) {
+            std::pop_heap(found.begin(), found.end());
+            const Found f = found.back();
+            found.pop_back();
+            if (!emit(f.t, f.prim)) return;
+        }
+        if (boxes.empty()) break;
+        std::pop_heap(boxes.begin(), boxes.end());
+        const Box b = boxes.back();
+        boxes.pop_back();
+        const Node& n = nodes_[b.node];
+        if (n.count > 0) {
+            for (uint32_t k = 0; k < n.count; ++k) {
+                double t;
+                if (hitAt(prims_[n.first + k], t)) {
+                    found.push_back({t, prims_[n.first + k]});
+                    std::push_heap(found.begin(), found.end());
+                }
+            }
+            continue;
+        }
+        for (uint32_t c = n.first; c < n.first + 2; ++c)
+            if (slabs(nodes_[c], q, t0, t1, tEnter)) {
+                boxes.push_back({tEnter, c});
+                std::push_heap(boxes.begin(), boxes.end());
+            }
     }
 }
 

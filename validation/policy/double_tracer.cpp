@@ -329,9 +329,10 @@ double DoubleTracer::floatTError(uint32_t prim, const DoubleRay& r) const {
     if (d[kz] == 0.0) return INFINITY;
     const double sx = -d[kx] / d[kz], sy = -d[ky] / d[kz], sz = 1.0 / d[kz];
     const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
-    double x[3], y[3], z[3];
+    double x[3], y[3], z[3], pz[3];
     for (int i = 0; i < 3; ++i) {
         const double p[3] = {double(v[i].x) - o[0], double(v[i].y) - o[1], double(v[i].z) - o[2]};
+        pz[i] = p[kz];
         x[i] = p[kx] + sx * p[kz];
         y[i] = p[ky] + sy * p[kz];
         z[i] = p[kz] * sz;
@@ -340,16 +341,25 @@ double DoubleTracer::floatTError(uint32_t prim, const DoubleRay& r) const {
                  e2 = x[0] * y[1] - y[0] * x[1];
     const double det = e0 + e1 + e2;
     if (det == 0.0) return INFINITY;
+    const double t = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / det;
     // PBRT's gamma(n) for single precision: n u / (1 - n u), u = 2^-24.
     auto gamma = [](int n) { return n * 0x1p-24 / (1.0 - n * 0x1p-24); };
-    const double maxXt = std::max({std::fabs(x[0]), std::fabs(x[1]), std::fabs(x[2])});
-    const double maxYt = std::max({std::fabs(y[0]), std::fabs(y[1]), std::fabs(y[2])});
-    const double maxZt = std::max({std::fabs(z[0]), std::fabs(z[1]), std::fabs(z[2])});
-    const double deltaZ = gamma(3) * maxZt;
-    const double deltaX = gamma(5) * (maxXt + maxZt), deltaY = gamma(5) * (maxYt + maxZt);
+    auto max3 = [](double a, double b, double c) {
+        return std::max({std::fabs(a), std::fabs(b), std::fabs(c)});
+    };
+    const double maxXt = max3(x[0], x[1], x[2]), maxYt = max3(y[0], y[1], y[2]);
+    const double maxZt = max3(z[0], z[1], z[2]);
+    // Translation and shear round the sheared x and y by a few units of the largest unscaled z
+    // as well (PBRT takes the scaled one, the same for a unit direction).
+    const double maxZ = std::max(maxZt, max3(pz[0], pz[1], pz[2]));
+    const double deltaX = gamma(5) * (maxXt + maxZ), deltaY = gamma(5) * (maxYt + maxZ);
     const double deltaE = 2.0 * (gamma(2) * maxXt * maxYt + deltaY * maxXt + deltaX * maxYt);
-    const double maxE = std::max({std::fabs(e0), std::fabs(e1), std::fabs(e2)});
-    return 3.0 * (gamma(3) * maxE * maxZt + deltaE * maxZt + deltaZ * maxE) / std::fabs(det);
+    // t is the mean of the z_i weighted by the edge functions: their errors (delta_e each) move
+    // it by at most 3 delta_e / |det| times the z_i's spread around t (PBRT bounds that spread by
+    // max |z_i|, far too loose for a small triangle far away); the z_i themselves are off by
+    // gamma_3 max |z_i|, and the sums and the division round by gamma_4 of it.
+    const double spread = max3(z[0] - t, z[1] - t, z[2] - t);
+    return 3.0 * deltaE * spread / std::fabs(det) + (gamma(3) + gamma(4)) * maxZt;
 }
 
 double DoubleTracer::diameter(uint32_t prim) const {
@@ -392,6 +402,12 @@ uint32_t DoubleTracer::touchinessNearBrute(const DoubleRay& r, double distance) 
 // --- the accelerated queries: the BVH proposes, the per-primitive tests above decide ----------
 
 Hit DoubleTracer::closest(const DoubleRay& r) const {
+    double t;
+    const int32_t prim = closest(r, t);
+    return {prim >= 0 ? float(t) : INFINITY, prim};
+}
+
+int32_t DoubleTracer::closest(const DoubleRay& r, double& tOut) const {
     double bestT = INFINITY;
     int32_t best = -1;
     const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
@@ -404,7 +420,8 @@ Hit DoubleTracer::closest(const DoubleRay& r) const {
         return std::min(bestT,
                         r.tmax);  // boxes entered beyond the best hit cannot hold a nearer one
     });
-    return {best >= 0 ? float(bestT) : INFINITY, best};
+    tOut = bestT;
+    return best;
 }
 
 std::vector<std::pair<double, uint32_t>> DoubleTracer::allHits(const DoubleRay& r) const {

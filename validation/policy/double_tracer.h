@@ -60,8 +60,34 @@ public:
 
     // Closest hit over all primitives (ties: lower id), with t in [tmin, tmax].
     Hit closest(const DoubleRay& r) const;
+    // The same with t in double: the primitive (-1 for none) and its t (+inf for none).
+    int32_t closest(const DoubleRay& r, double& t) const;
     // Every primitive hit with t in [tmin, tmax], as (t, id), ascending t.
     std::vector<std::pair<double, uint32_t>> allHits(const DoubleRay& r) const;
+    // The same hits in the same order (ascending t, then id), handed to f(t, id) one at a time
+    // until f returns false, from one best-first traversal: a caller that stops at the first hit
+    // it needs pays for the boxes before it only.
+    // Whether some primitive hit with t in [tmin, tmax] satisfies pred(t, id): the hits in no
+    // particular order, the search stopping at the first that does.
+    template <class P>
+    bool anyHitWhere(const DoubleRay& r, P&& pred) const {
+        const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+        bool found = false;
+        bvh_.segment(o, d, r.tmin, r.tmax, [&](uint32_t i) {
+            double t;
+            if (!found && hit(i, r, t) && pred(t, i)) found = true;
+            return found ? -INFINITY : r.tmax;  // found: every box left is beyond the limit
+        });
+        return found;
+    }
+
+    template <class F>
+    void hitsInOrder(const DoubleRay& r, F&& f) const {
+        const double o[3] = {r.org.x, r.org.y, r.org.z}, d[3] = {r.dir.x, r.dir.y, r.dir.z};
+        bvh_.ordered(
+            o, d, r.tmin, r.tmax, [&](uint32_t i, double& t) { return hit(i, r, t); },
+            [&](double t, uint32_t i) { return f(t, i); });
+    }
     // The per-primitive queries below take ids from the tracer under test, which may be
     // corrupt: an id >= primitiveCount() is never indexed (no hit, no touchiness, +inf away).
     // Hit test of one primitive; t is the hit distance when it returns true.
@@ -73,9 +99,11 @@ public:
     // Distance from a point to the primitive's surface (the closed triangle; the sphere).
     double distanceTo(uint32_t prim, DVec3 p) const;
     // For a triangle: how far a single-precision watertight test's t may lie from the exact one
-    // for this ray, in units of t: Pharr, Jakob & Humphreys' bound for Woop et al.'s test (PBRT
-    // 3rd ed., sec. 3.9.6, "Conservative ray-triangle intersection"), evaluated on the exact
-    // sheared coordinates; +inf when the ray is parallel to the triangle's plane. 0 for spheres.
+    // for this ray, in units of t: after Pharr, Jakob & Humphreys' analysis of Woop et al.'s test
+    // (PBRT 3rd ed., sec. 3.9.6), with the edge functions' error weighted by the vertices' spread
+    // along the ray around the hit (docs/VALIDATION.md, "The surface bound"), evaluated on the
+    // exact sheared coordinates; +inf when the ray is parallel to the triangle's plane. 0 for
+    // spheres.
     double floatTError(uint32_t prim, const DoubleRay& r) const;
     // The longest side of a triangle, the diameter of a sphere; the largest over the scene.
     double diameter(uint32_t prim) const;

@@ -45,13 +45,17 @@ double HitClassifier::surfaceBound(const Ray& ray, int32_t prim) const {
         {std::fabs(double(ray.org.x)), std::fabs(double(ray.org.y)), std::fabs(double(ray.org.z))});
     double bound = std::max(policy_.edgeTolerance * extent_,
                             kSurfaceUlps * 0x1p-24 * (origin + sceneMagnitude_));
-    if (prim >= 0 && uint32_t(prim) < truth_.primitiveCount()) {
-        const DoubleRay dr = toDoubleRay(ray);
-        const double along =
-            kSurfaceTErrors * truth_.floatTError(uint32_t(prim), dr) * length(dr.dir);
-        bound = std::max(bound, std::min(along, truth_.diameter(uint32_t(prim))));
-    }
+    if (prim >= 0 && uint32_t(prim) < truth_.primitiveCount())
+        bound = std::max(bound, hitTError(ray, prim) * double(length(ray.dir)));
     return bound;
+}
+
+double HitClassifier::hitTError(const Ray& ray, int32_t prim) const {
+    if (prim < 0 || uint32_t(prim) >= truth_.primitiveCount()) return 0.0;
+    const DoubleRay dr = toDoubleRay(ray);
+    const double dirLength = length(dr.dir);
+    return std::min(kSurfaceTErrors * truth_.floatTError(uint32_t(prim), dr),
+                    truth_.diameter(uint32_t(prim)) / dirLength);
 }
 
 DVec3 HitClassifier::hitPoint(const Ray& ray, float t) const {
@@ -138,23 +142,25 @@ Verdict HitClassifier::closest(const Ray& ray, Hit ours, Hit reference) const {
     Verdict v;
     v.cls = compare(ray, ours, reference);
     if (v.cls != HitClass::Wrong) return v;
-    return recheckClosest(ray, ours);
+    return recheckClosest(ray, ours, reference);
 }
 
-Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
+Hit HitClassifier::truthOf(const Ray& ray, const Verdict& v) const {
+    return v.truthKnown || !v.rechecked ? v.truth : truth_.closest(toDoubleRay(ray));
+}
+
+Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours, Hit reference) const {
     Verdict v;
     v.rechecked = true;
-    const DoubleRay dr = toDoubleRay(ray);
-    const double dirLength = length(dr.dir);
-    const double tTol = policy_.tTolerance * extent_ / dirLength;  // in units of t
-    const double touch = surfaceBound(ray);
-    auto hits = truth_.allHits(dr);
-    if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
     if (malformed(ray, ours)) {  // nothing to recheck: not an answer to this ray
         v.cls = HitClass::Wrong;
         v.reasons = malformed(ours) ? kInvalidHit : kOutsideRange;
         return v;
     }
+    const DoubleRay dr = toDoubleRay(ray);
+    const double dirLength = length(dr.dir);
+    const double tTol = policy_.tTolerance * extent_ / dirLength;  // in units of t
+    const double touch = surfaceBound(ray);
     const bool oursHit = ours.prim >= 0;
     const double tOurs = oursHit ? double(ours.t) : INFINITY;
     const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
@@ -182,24 +188,47 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours) const {
     // meets a sphere twice, so a hit of ours on its surface beyond the truth's nearer hit on
     // it is the far root (step 1 confirmed the point is on the surface, not that it is the
     // first). A ray meets a triangle's plane once, so there our point and the truth's are the
-    // same crossing, judged in step 1.
+    // same crossing, judged in step 1. The reference's primitive first: one clean primitive
+    // hit clearly before ours is enough.
     const bool ownSecondCrossing = oursHit && scene_->kind == PrimKind::Spheres;
-    bool clean = false;
-    for (const auto& h : hits) {
-        if (!(h.first < tOurs - tTol)) break;
-        if (oursHit && h.second == q && !ownSecondCrossing) continue;  // judged in step 1
-        const uint32_t r = truth_.touchiness(h.second, dr, touch);
-        clean = clean || r == 0;
-        reasons |= r;
+    auto counts = [&](uint32_t p) { return !oursHit || p != q || ownSecondCrossing; };
+    if (reference.prim >= 0 && uint32_t(reference.prim) < truth_.primitiveCount() &&
+        counts(uint32_t(reference.prim))) {
+        double tr;
+        if (truth_.hit(uint32_t(reference.prim), dr, tr) && tr < tOurs - tTol &&
+            truth_.touchiness(uint32_t(reference.prim), dr, touch) == 0) {
+            v.cls = HitClass::Wrong;
+            v.reasons = kMissedHit;
+            return v;
+        }
     }
-    if (clean) {
+    // Any clean primitive hit clearly before ours settles it (found in no order, the search
+    // stopping there); else the truth's hits in order: the first is its answer, and those
+    // before ours give the reasons.
+    DoubleRay before = dr;
+    before.tmax = std::min(dr.tmax, tOurs - tTol);
+    if (before.tmin <= before.tmax && truth_.anyHitWhere(before, [&](double t, uint32_t p) {
+            return t < tOurs - tTol && counts(p) && truth_.touchiness(p, dr, touch) == 0;
+        })) {
         v.cls = HitClass::Wrong;
         v.reasons = kMissedHit;
         return v;
     }
+    double tFirst = INFINITY;
+    int32_t first = -1;
+    truth_.hitsInOrder(dr, [&](double t, uint32_t p) {
+        if (first < 0) {
+            first = int32_t(p);
+            tFirst = t;
+        }
+        if (!(t < tOurs - tTol)) return false;
+        if (counts(p)) reasons |= truth_.touchiness(p, dr, touch);
+        return true;
+    });
+    v.truth = {first >= 0 ? float(tFirst) : INFINITY, first};
+    v.truthKnown = true;
     const bool agreesWithTruth =
-        (!oursHit && hits.empty()) ||
-        (oursHit && !hits.empty() && std::fabs(hits[0].first - tOurs) <= tTol);
+        (!oursHit && first < 0) || (oursHit && first >= 0 && std::fabs(tFirst - tOurs) <= tTol);
     if (agreesWithTruth) {
         // Ours is right; say too what made the reference stumble, when something did.
         reasons |= kReferenceOff;
@@ -219,19 +248,16 @@ HitClass HitClassifier::compareAnyHit(const Ray& ray, Hit ours, Hit reference) c
     return HitClass::Wrong;
 }
 
-Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours) const {
+Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours, Hit reference) const {
     Verdict v;
     v.rechecked = true;
-    const DoubleRay dr = toDoubleRay(ray);
-    const double touch = surfaceBound(ray);
-    const auto hits = truth_.allHits(dr);
-    v.truthOccluded = !hits.empty();
-    if (!hits.empty()) v.truth = {float(hits[0].first), int32_t(hits[0].second)};
     if (malformed(ray, ours)) {
         v.cls = HitClass::Wrong;
         v.reasons = malformed(ours) ? kInvalidHit : kOutsideRange;
         return v;
     }
+    const DoubleRay dr = toDoubleRay(ray);
+    const double touch = surfaceBound(ray);
     if (ours.prim >= 0) {
         if (!onSurface(ray, ours)) {
             v.cls = HitClass::Wrong;
@@ -240,8 +266,11 @@ Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours) const {
         }
         // A point on a primitive inside the segment: right. Where the truth meets nothing,
         // the segment passes within the bound of that primitive's edge or ends on it.
+        v.truth = truth_.closest(dr);
+        v.truthKnown = true;
+        v.truthOccluded = v.truth.prim >= 0;
         v.cls = HitClass::Ambiguous;
-        if (!hits.empty()) {
+        if (v.truthOccluded) {
             v.reasons = kReferenceOff;
         } else {
             const uint32_t r = truth_.touchiness(uint32_t(ours.prim), dr, touch);
@@ -249,16 +278,38 @@ Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours) const {
         }
         return v;
     }
-    // Ours saw nothing: every primitive the truth meets on the segment must be touchy.
-    uint32_t reasons = 0;
-    bool clean = false;
-    for (const auto& h : hits) {
-        const uint32_t r = truth_.touchiness(h.second, dr, touch);
-        clean = clean || r == 0;
-        reasons |= r;
+    // Ours saw nothing: every primitive the truth meets on the segment must be touchy; the
+    // reference's first (a clean one settles it without a search).
+    if (reference.prim >= 0 && uint32_t(reference.prim) < truth_.primitiveCount()) {
+        double tr;
+        if (truth_.hit(uint32_t(reference.prim), dr, tr) &&
+            truth_.touchiness(uint32_t(reference.prim), dr, touch) == 0) {
+            v.cls = HitClass::Wrong;
+            v.reasons = kMissedHit;
+            return v;
+        }
     }
-    v.cls = clean ? HitClass::Wrong : HitClass::Ambiguous;
-    v.reasons = clean ? uint32_t(kMissedHit) : (hits.empty() ? uint32_t(kReferenceOff) : reasons);
+    v.truth = truth_.closest(dr);
+    v.truthKnown = true;
+    v.truthOccluded = v.truth.prim >= 0;
+    if (!v.truthOccluded) {
+        v.cls = HitClass::Ambiguous;
+        v.reasons = kReferenceOff;
+        return v;
+    }
+    if (truth_.anyHitWhere(
+            dr, [&](double, uint32_t p) { return truth_.touchiness(p, dr, touch) == 0; })) {
+        v.cls = HitClass::Wrong;
+        v.reasons = kMissedHit;
+        return v;
+    }
+    uint32_t reasons = 0;
+    truth_.hitsInOrder(dr, [&](double, uint32_t p) {
+        reasons |= truth_.touchiness(p, dr, touch);
+        return true;
+    });
+    v.cls = HitClass::Ambiguous;
+    v.reasons = reasons;
     return v;
 }
 

@@ -54,6 +54,7 @@ struct Verdict {
     uint32_t reasons = 0;  // AmbiguityReason bits (ambiguous; kNotRechecked, kInvalidHit)
     bool rechecked = false;
     Hit truth = {INFINITY, -1};  // double-precision closest hit (closest queries, rechecked)
+    bool truthKnown = false;     // false: not needed for the verdict (HitClassifier::truthOf)
     bool truthOccluded = false;  // occlusion queries, rechecked
 };
 
@@ -86,6 +87,10 @@ public:
     // `prim` (+inf for an id out of range).
     DVec3 hitPoint(const Ray& ray, float t) const;
     double surfaceDistance(const Ray& ray, Hit h) const;
+    // How far a correct float tracer's t for a hit on `prim` may lie from the exact one, in units
+    // of t: kSurfaceTErrors x the watertight test's bound (DoubleTracer::floatTError), capped at
+    // the primitive's diameter over |d|. 0 for spheres.
+    double hitTError(const Ray& ray, int32_t prim) const;
     // The rule: a well-formed hit inside [tmin, tmax] whose point lies within surfaceBound of
     // its primitive. O(1).
     bool onSurface(const Ray& ray, Hit h) const;
@@ -102,8 +107,12 @@ public:
 
     // Full verdict for one closest-hit query (rechecks a mismatch).
     Verdict closest(const Ray& ray, Hit ours, Hit reference) const;
-    // Recheck of a closest-hit mismatch against the double truth.
-    Verdict recheckClosest(const Ray& ray, Hit ours) const;
+    // Recheck of a closest-hit mismatch against the double truth. `reference` (when it hits) is
+    // tried first as the primitive ours missed: a clean one settles the verdict without a
+    // search, so a tracer that answers every ray wrongly costs no more than a right one.
+    Verdict recheckClosest(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1}) const;
+    // The truth's closest hit a verdict names: its own when it had to find it, else found now.
+    Hit truthOf(const Ray& ray, const Verdict& v) const;
     // The first step of an any-hit query with a reported hit (certify's shadow set): both miss
     // -> agree; ours on a primitive in [tmin, tmax] and the reference hits -> agree (any hit is
     // right); anything else is a mismatch (Wrong, to recheck).
@@ -111,7 +120,7 @@ public:
     // Recheck of an any-hit mismatch: ours off every surface -> wrong (off_surface); ours on a
     // surface -> ambiguous (the truth decides which side was off); ours a miss -> every
     // primitive the truth meets on the segment must be touchy, else wrong (missed_hit).
-    Verdict recheckAnyHit(const Ray& ray, Hit ours) const;
+    Verdict recheckAnyHit(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1}) const;
     // Recheck of an occlusion mismatch (ours != reference) on one ray, when only the yes/no
     // answer is known (the Film's shadow flags).
     Verdict recheckOcclusion(const Ray& ray, bool oursOccluded) const;

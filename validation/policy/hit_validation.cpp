@@ -189,7 +189,8 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
         size_t i = primaryQueue[k];
         int x = int(i % size_t(p.width)), y = int(i / size_t(p.width));
         Ray ray = primaryRay(p.camera, x, y, p.width, p.height);
-        primaryVerdict[i] = c.recheckClosest(ray, {ours.t[i], ours.prim[i]});
+        primaryVerdict[i] =
+            c.recheckClosest(ray, {ours.t[i], ours.prim[i]}, {reference.t[i], reference.prim[i]});
     });
     for (size_t k = nPrimary; k < primaryQueue.size(); ++k) {
         size_t i = primaryQueue[k];
@@ -290,9 +291,9 @@ FilmValidation validateFilm(const HitClassifier& c, const FrameParams& p, const 
         f.ours = {ours.t[i], ours.prim[i]};
         f.reference = {reference.t[i], reference.prim[i]};
         f.rechecked = vd.rechecked;
-        f.truth = vd.truth;
         f.relativeDt = v.relativeDt[i];
         f.ray = primaryRay(p.camera, f.x, f.y, p.width, p.height);
+        f.truth = c.truthOf(f.ray, vd);
         v.worstPixels.push_back(f);
     }
     keepWorst(shadowFindings, pol.worstCount, shadowDt);

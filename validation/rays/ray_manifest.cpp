@@ -277,7 +277,7 @@ void checkSameScene(const RayManifest& m, const Scene& scene, const std::string&
 
 RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
                       const std::optional<RayManifest>& manifest, const std::string& raysPath,
-                      std::vector<std::string>& notes) {
+                      std::vector<std::string>& notes, const DoubleTracer* truth) {
     RaySet out;
     out.rays = std::move(rays);
     const uint64_t n = out.count();
@@ -324,23 +324,11 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     rebuildSpec.sets.clear();
     for (const RaySetDesc* k : spec.sets)
         if (!k->needsReference) rebuildSpec.sets.push_back(k);
-    // The seeded shares follow the full list; rebuild each seeded set with its own share.
-    RaySet rebuilt;
-    {
-        RaySetSpec one = spec;
-        for (const RaySetDesc* k : rebuildSpec.sets) {
-            one.sets = {k};
-            one.count = k->seeded ? seededShare(spec, *k) : 0;
-            RaySet part = makeRaySet(scene, one);
-            const uint64_t offset = rebuilt.count();
-            for (RayTarget t : part.targets) {
-                t.row += offset;
-                rebuilt.targets.push_back(t);
-            }
-            rebuilt.rays.insert(rebuilt.rays.end(), part.rays.begin(), part.rays.end());
-            rebuilt.sets.push_back({k->name, offset, part.count()});
-        }
-    }
+    // Rebuilt in one call (the sets in parallel), sharing the mesh's targets and the truth.
+    // Leaving out the sets made from the reference (shadow, not seeded) keeps every seeded set's
+    // share, which follows the seeded sets alone.
+    rebuildSpec.truth = truth;
+    const RaySet rebuilt = makeRaySet(scene, rebuildSpec);
     for (const RaySetRange& f : out.sets) {
         const RaySetDesc* k = findRaySet(f.name);
         if (k && k->needsReference) {
@@ -365,6 +353,7 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     }
     std::sort(out.targets.begin(), out.targets.end(),
               [](const RayTarget& a, const RayTarget& b) { return a.row < b.row; });
+    out.mesh = rebuilt.mesh;
     return out;
 }
 

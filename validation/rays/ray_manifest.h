@@ -90,9 +90,10 @@ void checkSameScene(const RayManifest& m, const Scene& scene, const std::string&
 // which also gives the edges/vertices targets; without one, a single set "all". Throws (one
 // line, naming the file, the set and its rows) when the rows or the checksum disagree: the
 // file was edited, or `scene` is not the scene it was made for. `notes` receives what was not
-// rebuilt (shadow, sets of its own).
+// rebuilt (shadow, sets of its own). `truth` (may be null) is a double truth of `scene` to seal
+// the rebuilt targets with, so that certify builds one.
 RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
                       const std::optional<RayManifest>& manifest, const std::string& raysPath,
-                      std::vector<std::string>& notes);
+                      std::vector<std::string>& notes, const DoubleTracer* truth = nullptr);
 
 }  // namespace oct

@@ -48,21 +48,21 @@ struct RaySetRng {
 };
 
 struct RaySetContext {
+    RaySetContext(const Scene& s, const CameraOptions& cam, const TraceBatch& ref)
+        : scene(s), camera(cam), reference(ref) {}
     const Scene& scene;
     const CameraOptions& camera;  // the camera and shadow sets
     const TraceBatch& reference;  // the shadow set's camera hits
-    Aabb bounds, root;
-    Vec3 centre;
-    float radius;
-    double margin;  // kSealMargin x extent
-    std::optional<MeshTopology> topo;
-    std::vector<uint32_t> interiorEdges, fanVertices;
-    std::vector<std::vector<uint32_t>> links;  // per fan vertex
-    std::vector<double> cumulativeArea;        // slivers: running sum of the triangles' areas
-    std::unique_ptr<DoubleTracer> truth;       // the seal's double-precision check
-    double tTolerance = 0.0;                   // world units: the default t tolerance
+    Aabb bounds{}, root{};
+    Vec3 centre{};
+    float radius = 0.0f;
+    double margin = 0.0;                      // kSealMargin x extent
+    std::shared_ptr<const MeshTargets> mesh;  // edges and vertices sets (prepareTopology)
+    std::vector<double> cumulativeArea;       // slivers: running sum of the triangles' areas
+    const DoubleTracer* truth = nullptr;      // the seal's double-precision check
+    std::unique_ptr<DoubleTracer> ownTruth;   // when the spec gave none
+    double tTolerance = 0.0;                  // world units: the default t tolerance
 };
-
 namespace {
 
 using Rng = RaySetRng;
@@ -225,7 +225,7 @@ bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 o, Vec3 dir) {
         proj(toDouble(v), q.x, q.y);
         return q;
     };
-    const MeshTopology& t = *c.topo;
+    const MeshTopology& t = c.mesh->topology;
     P2 a = at(t.vertices[e.a]), b = at(t.vertices[e.b]), q = at(o);
     P2 opp[2];
     for (int k = 0; k < 2; ++k) {
@@ -248,7 +248,7 @@ bool edgeSealed(const Context& c, const MeshEdge& e, Vec3 o, Vec3 dir) {
 bool vertexSealed(const Context& c, uint32_t v, const std::vector<uint32_t>& link, Vec3 o,
                   Vec3 dir) {
     const DVec3 d = toDouble(dir);
-    const MeshTopology& t = *c.topo;
+    const MeshTopology& t = c.mesh->topology;
     for (uint32_t k = t.vertexStart[v]; k < t.vertexStart[v + 1]; ++k)
         if (absCos(triangleNormal(c.scene.triangles[t.vertexTriangles[k]]), d) < kVertexMinCos)
             return false;
@@ -277,27 +277,24 @@ double longestSide(const Triangle& t) {
 }
 
 void prepareTopology(Context& c) {
-    if (c.topo) return;
-    c.topo = meshTopology(c.scene);
-    const MeshTopology& t = *c.topo;
-    for (size_t i = 0; i < t.edges.size(); ++i)
-        if (t.edges[i].triangles == 2) c.interiorEdges.push_back(uint32_t(i));
-    for (uint32_t v = 0; v < t.vertices.size(); ++v) {
-        std::vector<uint32_t> link = vertexLink(t, v);
-        if (link.empty()) continue;
-        c.fanVertices.push_back(v);
-        c.links.push_back(std::move(link));
+    if (!c.mesh) c.mesh = meshTargets(c.scene);
+    if (!c.truth) {
+        c.ownTruth = std::make_unique<DoubleTracer>(c.scene, TouchTolerance{0.0, 0.0});
+        c.truth = c.ownTruth.get();
     }
-    c.truth = std::make_unique<DoubleTracer>(c.scene, TouchTolerance{0.0, 0.0});
 }
 
 // The seal's second half: the double-precision truth, on the stored float ray, hits one of the
 // target's own triangles (ascending ids) within the default t tolerance of its t.
 bool truthHitsTarget(const Context& c, Vec3 o, Vec3 dir, double t,
                      const std::vector<uint32_t>& own) {
-    const Hit h = c.truth->closest(toDoubleRay(Ray{o, dir, 0.0f, INFINITY}));
+    // Only a hit up to the target (and its tolerance) can decide: the query stops there.
+    DoubleRay r = toDoubleRay(Ray{o, dir, 0.0f, INFINITY});
+    const double tol = c.tTolerance / length(r.dir);
+    r.tmax = (t + tol) * (1.0 + 1e-9);
+    const Hit h = c.truth->closest(r);
     return h.prim >= 0 && std::binary_search(own.begin(), own.end(), uint32_t(h.prim)) &&
-           std::fabs(double(h.t) - t) <= c.tTolerance / length(toDouble(dir));
+           std::fabs(double(h.t) - t) <= tol;
 }
 
 // One target ray of the edges or vertices set: up to kAttemptsPerRay draws (each `draw` aims one
@@ -345,14 +342,15 @@ void noteTargets(const char* set, uint64_t n, const TargetCounts& k, RaySet& out
 
 void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     prepareTopology(c);
-    if (n > 0 && c.interiorEdges.empty())
+    if (n > 0 && c.mesh->interiorEdges.empty())
         throw std::invalid_argument("ray set 'edges': '" + c.scene.name +
                                     "' has no edge shared by exactly two triangles");
-    const MeshTopology& t = *c.topo;
+    const MeshTopology& t = c.mesh->topology;
     TargetCounts counts;
     for (uint64_t i = 0; i < n; ++i) {
         auto draw = [&](TargetDraw& d) {
-            const MeshEdge& e = t.edges[c.interiorEdges[rng.below(c.interiorEdges.size())]];
+            const MeshEdge& e =
+                t.edges[c.mesh->interiorEdges[rng.below(c.mesh->interiorEdges.size())]];
             const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
             const Vec3 p = va + (vb - va) * float(rng.range(0.2, 0.8));  // float, as a hit point
             const Triangle &ta = c.scene.triangles[e.tri[0]], &tb = c.scene.triangles[e.tri[1]];
@@ -380,15 +378,15 @@ void edges(Context& c, Rng& rng, uint64_t n, RaySet& out) {
 
 void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     prepareTopology(c);
-    if (n > 0 && c.fanVertices.empty())
+    if (n > 0 && c.mesh->fanVertices.empty())
         throw std::invalid_argument("ray set 'vertices': '" + c.scene.name +
                                     "' has no vertex whose triangles close a fan around it");
-    const MeshTopology& t = *c.topo;
+    const MeshTopology& t = c.mesh->topology;
     TargetCounts counts;
     for (uint64_t i = 0; i < n; ++i) {
         auto draw = [&](TargetDraw& d) {
-            const size_t pick = rng.below(c.fanVertices.size());
-            const uint32_t v = c.fanVertices[pick];
+            const size_t pick = rng.below(c.mesh->fanVertices.size());
+            const uint32_t v = c.mesh->fanVertices[pick];
             DVec3 front = {0, 0, 0};
             double r = 0.0;
             std::vector<uint32_t> fan;
@@ -406,7 +404,7 @@ void vertices(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             double tt;
             aimAt(p, p - dir * float(r), d.o, d.dir, tt);
             d.target = {0, tt, v, v, p, p, std::move(fan)};
-            return vertexSealed(c, v, c.links[pick], d.o, d.dir) &&
+            return vertexSealed(c, v, c.mesh->links[pick], d.o, d.dir) &&
                    truthHitsTarget(c, d.o, d.dir, tt, d.target.triangles);
         };
         if (!placeTarget(draw, out, counts)) notPlaced(c, "vertices", i, n);
@@ -494,14 +492,19 @@ void tminTmax(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             " octrace trace refuses, drawn again");
 }
 
+// The running sum of the triangles' areas areaWeighted draws from, made before the sets are
+// drawn (in parallel, makeRaySet).
+void prepareAreas(Context& c) {
+    std::vector<double>& sum = c.cumulativeArea;
+    if (!sum.empty() || c.scene.kind != PrimKind::Triangles) return;
+    double total = 0.0;
+    for (const Triangle& tri : c.scene.triangles)
+        sum.push_back(total += length(triangleNormal(tri)));
+}
+
 // A triangle with probability proportional to its area (so that pointOn is uniform over all).
 size_t areaWeighted(Context& c, Rng& rng) {
-    std::vector<double>& sum = c.cumulativeArea;
-    if (sum.empty()) {
-        double total = 0.0;
-        for (const Triangle& tri : c.scene.triangles)
-            sum.push_back(total += length(triangleNormal(tri)));
-    }
+    const std::vector<double>& sum = c.cumulativeArea;
     const size_t k =
         size_t(std::upper_bound(sum.begin(), sum.end(), rng.u01() * sum.back()) - sum.begin());
     return std::min(k, sum.size() - 1);
@@ -509,8 +512,10 @@ size_t areaWeighted(Context& c, Rng& rng) {
 
 // The edge (welded ids, a < b) of triangle k nearest to p, in the plane z = const.
 void nearestEdge(const Context& c, size_t k, Vec3 p, uint32_t& a, uint32_t& b) {
-    const std::array<uint32_t, 3>& cs = c.topo->corners[k];
-    auto at = [&](uint32_t v) { return P2{c.topo->vertices[v].x, c.topo->vertices[v].y}; };
+    const std::array<uint32_t, 3>& cs = c.mesh->topology.corners[k];
+    auto at = [&](uint32_t v) {
+        return P2{c.mesh->topology.vertices[v].x, c.mesh->topology.vertices[v].y};
+    };
     const P2 q{p.x, p.y};
     double best = INFINITY;
     for (int e = 0; e < 3; ++e) {
@@ -526,7 +531,7 @@ void nearestEdge(const Context& c, size_t k, Vec3 p, uint32_t& a, uint32_t& b) {
 // Aimed at a point of a slivers square; kept when the float ray crosses the plane inside it.
 void slivers(Context& c, Rng& rng, uint64_t n, RaySet& out) {
     prepareTopology(c);
-    const MeshTopology& t = *c.topo;
+    const MeshTopology& t = c.mesh->topology;
     const Aabb& square = c.bounds;  // [0,1]^2 in the plane z = 0
     for (uint64_t i = 0; i < n; ++i) {
         bool placed = false;
@@ -534,13 +539,14 @@ void slivers(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             Vec3 p;
             uint32_t a = 0, b = 0;
             if (i % 4 == 2) {  // on an interior edge
-                const MeshEdge& e = t.edges[c.interiorEdges[rng.below(c.interiorEdges.size())]];
+                const MeshEdge& e =
+                    t.edges[c.mesh->interiorEdges[rng.below(c.mesh->interiorEdges.size())]];
                 const Vec3 va = t.vertices[e.a], vb = t.vertices[e.b];
                 p = va + (vb - va) * float(rng.u01());
                 a = e.a;
                 b = e.b;
             } else if (i % 4 == 3) {  // at an interior vertex
-                a = b = c.fanVertices[rng.below(c.fanVertices.size())];
+                a = b = c.mesh->fanVertices[rng.below(c.mesh->fanVertices.size())];
                 p = t.vertices[a];
             } else {  // uniform in the square
                 const size_t k = areaWeighted(c, rng);
@@ -731,46 +737,86 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
             throw std::invalid_argument("ray set '" + std::string(k->name) +
                                         "' needs a reference tracer for the camera hits");
     }
-    Context c{scene,
-              spec.camera,
-              reference,
-              scene.bounds(),
-              rootCube(scene),
-              {},
-              0.0f,
-              0.0,
-              {},
-              {},
-              {},
-              {},
-              {},
-              {},
-              0.0};
+    Context c(scene, spec.camera, reference);
+    c.bounds = scene.bounds();
+    c.root = rootCube(scene);
+    c.mesh = spec.mesh;
+    c.truth = spec.truth;
     c.centre = c.bounds.center();
     c.radius = 0.5f * length(c.bounds.extent());
     if (!(c.radius > 0.0f)) c.radius = 0.5f * length(c.root.extent());
     c.margin = kSealMargin * sceneExtent(scene);
     c.tTolerance = kDefaultRelativeTolerance * sceneExtent(scene);
 
-    RaySet out;
+    // What several sets share is made first; then every set is drawn from its own stream into
+    // its own part, the sets in parallel (each part's bytes are those of a serial run), and the
+    // parts joined in the spec's order.
     for (const RaySetDesc* k : spec.sets) {
-        const uint64_t begin = out.count();
-        const uint64_t n = seededShare(spec, *k);
-        Rng rng = streamFor(spec.seed, *k);
-        out.rays.reserve(out.rays.size() + 8 * n);
-        k->generate(c, rng, n, out);
-        // Every row is one `octrace trace` accepts: a generator that wrote another is a bug.
-        for (uint64_t r = begin; r < out.count(); ++r) {
-            const std::string why = rayRowProblem(&out.rays[8 * r]);
-            if (!why.empty())
-                throw std::logic_error("ray set '" + std::string(k->name) + "' made row " +
-                                       std::to_string(r - begin) +
-                                       ", which octrace trace refuses (" + why +
-                                       "): a bug of its generator in ray_sets.cpp");
-        }
-        out.sets.push_back({k->name, begin, out.count() - begin});
+        if (k->generate == edges || k->generate == vertices || k->generate == slivers)
+            prepareTopology(c);
+        if (k->needsTriangles) prepareAreas(c);
     }
+    std::vector<RaySet> parts(spec.sets.size());
+    std::vector<std::exception_ptr> failed(spec.sets.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int64_t i = 0; i < int64_t(spec.sets.size()); ++i) {
+        const RaySetDesc* k = spec.sets[size_t(i)];
+        RaySet& part = parts[size_t(i)];
+        try {
+            Rng rng = streamFor(spec.seed, *k);
+            part.rays.reserve(8 * seededShare(spec, *k));
+            k->generate(c, rng, seededShare(spec, *k), part);
+            // Every row is one `octrace trace` accepts: a generator that wrote another is a bug.
+            for (uint64_t r = 0; r < part.count(); ++r) {
+                const std::string why = rayRowProblem(&part.rays[8 * r]);
+                if (!why.empty())
+                    throw std::logic_error("ray set '" + std::string(k->name) + "' made row " +
+                                           std::to_string(r) + ", which octrace trace refuses (" +
+                                           why + "): a bug of its generator in ray_sets.cpp");
+            }
+        } catch (...) {
+            failed[size_t(i)] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+    RaySet out;
+    uint64_t rows = 0;
+    for (const RaySet& part : parts) rows += part.count();
+    out.rays.reserve(8 * rows);
+    for (size_t i = 0; i < parts.size(); ++i) {
+        RaySet& part = parts[i];
+        const uint64_t begin = out.count();
+        out.rays.insert(out.rays.end(), part.rays.begin(), part.rays.end());
+        for (RayTarget& t : part.targets) {
+            t.row += begin;
+            out.targets.push_back(std::move(t));
+        }
+        out.notes.insert(out.notes.end(), part.notes.begin(), part.notes.end());
+        if (part.frame) out.frame = part.frame;
+        out.sets.push_back({spec.sets[i]->name, begin, part.count()});
+    }
+    out.mesh = c.mesh;
     return out;
+}
+
+std::shared_ptr<const MeshTargets> meshTargets(const Scene& scene) {
+    auto m = std::make_shared<MeshTargets>();
+    m->topology = meshTopology(scene);
+    const MeshTopology& t = m->topology;
+    for (size_t i = 0; i < t.edges.size(); ++i)
+        if (t.edges[i].triangles == 2) m->interiorEdges.push_back(uint32_t(i));
+    // Every vertex's link on its own (in parallel), then the closed fans in vertex order.
+    std::vector<std::vector<uint32_t>> links(t.vertices.size());
+    const int64_t nv = int64_t(t.vertices.size());
+#pragma omp parallel for schedule(dynamic, 4096)
+    for (int64_t v = 0; v < nv; ++v) links[size_t(v)] = vertexLink(t, uint32_t(v));
+    for (uint32_t v = 0; v < t.vertices.size(); ++v) {
+        if (links[v].empty()) continue;
+        m->fanVertices.push_back(v);
+        m->links.push_back(std::move(links[v]));
+    }
+    return m;
 }
 
 RaySet makeValidationRays(const Scene& scene, uint64_t n, uint64_t seed) {

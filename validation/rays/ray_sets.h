@@ -61,12 +61,14 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "core/render/frame.h"
 #include "core/render/kernel.h"
+#include "core/scene/mesh_topology.h"
 #include "core/scene/scene.h"
 
 namespace oct {
@@ -125,6 +127,9 @@ struct RayTarget {
     bool vertex() const { return a == b; }
 };
 
+class DoubleTracer;  // validation/policy/double_tracer.h
+struct MeshTargets;  // below
+
 struct RaySet {
     std::vector<float> rays;           // N x 8: ox oy oz dx dy dz tmin tmax
     std::vector<RaySetRange> sets;     // contiguous, in file order, covering every row
@@ -132,6 +137,8 @@ struct RaySet {
     std::optional<FrameParams> frame;  // when there is a camera or shadow set
     // What generating had to do, for the user: rows drawn again, targets left unsealed.
     std::vector<std::string> notes;
+    // The mesh's targets when an edges or vertices set was made (shareable: RaySetSpec::mesh).
+    std::shared_ptr<const MeshTargets> mesh;
     uint64_t count() const { return rays.size() / 8; }
     Ray ray(uint64_t i) const {
         const float* r = &rays[8 * i];
@@ -140,11 +147,26 @@ struct RaySet {
     const RaySetRange* find(const std::string& name) const;
 };
 
+// What the edges and vertices sets draw from, made once per mesh (meshTargets) and shared
+// between makeRaySet calls and with certify's report: the topology, the edges two triangles
+// share, and the vertices whose triangles close a fan, with each fan's link.
+struct MeshTargets {
+    MeshTopology topology;
+    std::vector<uint32_t> interiorEdges, fanVertices;
+    std::vector<std::vector<uint32_t>> links;  // per fan vertex
+};
+std::shared_ptr<const MeshTargets> meshTargets(const Scene& scene);
+
 struct RaySetSpec {
     std::vector<const RaySetDesc*> sets;  // rows of standardRaySets(), in file order, each once
     uint64_t count = 30000;               // rays over the seeded sets together
     uint64_t seed = 1;
     CameraOptions camera;  // camera and shadow sets
+    // Optional, to share what one scene's sets need between calls (made when absent): the
+    // mesh's targets, and a double truth of the scene to seal them with (certify's classifier's:
+    // its closest hits do not depend on its tolerances).
+    std::shared_ptr<const MeshTargets> mesh;
+    const DoubleTracer* truth = nullptr;
 };
 
 // The rows of one seeded set's share, as the spec splits count.
