@@ -6,6 +6,8 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -154,7 +156,8 @@ void overTheCap(const HitClassifier& c, const Ray& ray, Hit o, uint8_t& cls, uin
 }  // namespace
 
 RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
-                             const HitArrays& ref, const CertifyOptions& options) {
+                             const HitArrays& ref, const CertifyOptions& options,
+                             const NextReferenceHit& next) {
     const uint64_t n = rays.count();
     if (ours.t.size() != n || (ours.primIds && ours.prim.size() != n) || ref.t.size() != n ||
         !ref.primIds || ref.prim.size() != n)
@@ -221,7 +224,13 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         }
         inferred[k] = o.prim;
         const Hit r = ref.at(i);
-        verdict[k] = anyHit[i] ? c.recheckAnyHit(ray, o, r) : c.recheckClosest(ray, o, r);
+        Hit last = r;  // each call: the reference's next hit beyond the last one given
+        const std::function<Hit()> more = [&next, &last, i]() {
+            last = next && last.prim >= 0 ? next(i, last) : Hit{INFINITY, -1};
+            return last;
+        };
+        verdict[k] =
+            anyHit[i] ? c.recheckAnyHit(ray, o, r, &more) : c.recheckClosest(ray, o, r, &more);
     });
     std::unordered_map<uint64_t, size_t> slot;
     for (size_t k = 0; k < recheck.size(); ++k) {
@@ -467,19 +476,31 @@ CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
     if (scene.kind == PrimKind::Triangles)
         rep.topology = summarize(rays.mesh ? rays.mesh->topology : meshTopology(scene));
     static_cast<JudgedScene&>(rep) = judgedScene(scene, classifier);
+    for (const RaySetDesc& d : standardRaySets())
+        if (!rays.find(d.name) && raySetMisfit(d, scene).empty()) rep.missingSets.push_back(d.name);
 
     auto t0 = std::chrono::steady_clock::now();
     HitArrays ref;
     ref.t.resize(rays.count());
     ref.prim.resize(rays.count());
-    {
-        EmbreeTracer embree(scene);  // robust mode: the reference of docs/VALIDATION.md
-        traceRaysCpu(embree.accel(),
-                     RayBatchView{rays.rays.data(), ref.t.data(), ref.prim.data(), rays.count()});
-    }
+    EmbreeTracer embree(scene);  // robust mode: the reference of docs/VALIDATION.md
+    traceRaysCpu(embree.accel(),
+                 RayBatchView{rays.rays.data(), ref.t.data(), ref.prim.data(), rays.count()});
     rep.referenceSeconds = since(t0);
     t0 = std::chrono::steady_clock::now();
-    rep.result = certifyRays(classifier, rays, ours, ref, options);
+    // The reference's next hit beyond its first, for the rechecks that need a witness (a miss
+    // of ours where its first hit is touchy).
+    const EmbreeAccel accel = embree.accel();
+    const NextReferenceHit next = [&rays, accel](uint64_t i, Hit after) {
+        float row[8];
+        std::memcpy(row, &rays.rays[8 * i], sizeof row);
+        row[6] = std::max(row[6], std::nextafter(after.t, INFINITY));
+        Hit h{INFINITY, -1};
+        if (!(row[6] <= row[7])) return h;
+        traceRayAt(0, accel, RayBatchView{row, &h.t, &h.prim, 1});
+        return h;
+    };
+    rep.result = certifyRays(classifier, rays, ours, ref, options, next);
     rep.checkSeconds = since(t0);
     rep.seconds = since(start);
     return rep;

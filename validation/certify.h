@@ -11,6 +11,7 @@
 // not tested. A faulty tracer's output never crashes the check.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -98,8 +99,12 @@ struct RayCertification {
 // Classifies every ray of `rays` (its sets, its targets) from our answers against the
 // reference's. Throws std::invalid_argument when an array's length is not the ray count, a
 // set's rows lie outside it, or the reference has no primitive ids.
+// The reference's next hit on row i beyond `after` (its first): a cheap witness for the
+// rechecks (HitClassifier::recheckClosest). May be empty.
+using NextReferenceHit = std::function<Hit(uint64_t i, Hit after)>;
 RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const HitArrays& ours,
-                             const HitArrays& reference, const CertifyOptions& options = {});
+                             const HitArrays& reference, const CertifyOptions& options = {},
+                             const NextReferenceHit& next = {});
 
 // The camera set's outcome as a FilmValidation, for writeDiffImage
 // (validation/report/diff_image.h). Throws std::invalid_argument without a camera set or frame.
@@ -126,6 +131,9 @@ struct CertifyReport : JudgedScene {
     double referenceSeconds = 0.0, checkSeconds = 0.0, seconds = 0.0;
 
     Require require = Require::All;
+    // The standard sets the scene could take that the ray file does not give: a PASS without
+    // them is partial (the report says so).
+    std::vector<std::string> missingSets;
 
     // The required verdicts combined: FAIL over INCOMPLETE over PASS. A required watertight
     // verdict that could not be tested (no target rays) is INCOMPLETE; under `all` it is left

@@ -23,6 +23,21 @@ const char* hitClassName(HitClass c) {
 
 namespace {
 
+// Whether `reference`, or one of the next few hits `more` gives (the reference's next ones along
+// the ray, nearest first), is a witness.
+template <class W>
+bool witnessAmong(Hit reference, const std::function<Hit()>* more, W&& witness) {
+    constexpr int kNextHits = 6;
+    if (witness(reference)) return true;
+    if (!more || reference.prim < 0) return false;
+    for (int k = 0; k < kNextHits; ++k) {
+        const Hit h = (*more)();
+        if (h.prim < 0) return false;
+        if (witness(h)) return true;
+    }
+    return false;
+}
+
 double largestCoordinate(const Scene& scene) {
     const Aabb b = scene.bounds();
     double m = 0.0;
@@ -149,7 +164,8 @@ Hit HitClassifier::truthOf(const Ray& ray, const Verdict& v) const {
     return v.truthKnown || !v.rechecked ? v.truth : truth_.closest(toDoubleRay(ray));
 }
 
-Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours, Hit reference) const {
+Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours, Hit reference,
+                                      const std::function<Hit()>* more) const {
     Verdict v;
     v.rechecked = true;
     if (malformed(ray, ours)) {  // nothing to recheck: not an answer to this ray
@@ -192,39 +208,44 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours, Hit reference) c
     // hit clearly before ours is enough.
     const bool ownSecondCrossing = oursHit && scene_->kind == PrimKind::Spheres;
     auto counts = [&](uint32_t p) { return !oursHit || p != q || ownSecondCrossing; };
-    if (reference.prim >= 0 && uint32_t(reference.prim) < truth_.primitiveCount() &&
-        counts(uint32_t(reference.prim))) {
-        double tr;
-        if (truth_.hit(uint32_t(reference.prim), dr, tr) && tr < tOurs - tTol &&
-            truth_.touchiness(uint32_t(reference.prim), dr, touch) == 0) {
-            v.cls = HitClass::Wrong;
-            v.reasons = kMissedHit;
-            return v;
-        }
-    }
-    // Any clean primitive hit clearly before ours settles it (found in no order, the search
-    // stopping there); else the truth's hits in order: the first is its answer, and those
-    // before ours give the reasons.
-    DoubleRay before = dr;
-    before.tmax = std::min(dr.tmax, tOurs - tTol);
-    if (before.tmin <= before.tmax && truth_.anyHitWhere(before, [&](double t, uint32_t p) {
-            return t < tOurs - tTol && counts(p) && truth_.touchiness(p, dr, touch) == 0;
-        })) {
+    // A witness: a clean primitive the truth hits clearly before ours.
+    auto witness = [&](Hit c) {
+        double tc;
+        return c.prim >= 0 && uint32_t(c.prim) < truth_.primitiveCount() &&
+               counts(uint32_t(c.prim)) && truth_.hit(uint32_t(c.prim), dr, tc) &&
+               tc < tOurs - tTol && truth_.touchiness(uint32_t(c.prim), dr, touch) == 0;
+    };
+    if (witnessAmong(reference, more, witness)) {
         v.cls = HitClass::Wrong;
         v.reasons = kMissedHit;
         return v;
     }
+    // Any clean primitive hit clearly before ours settles it (searched for in no order, the
+    // search stopping there). Else every hit before ours was seen: their touchiness gives the
+    // reasons, and the nearest (ties: lowest id) is the truth's answer, unless there was none,
+    // when the truth's answer lies at or beyond ours.
+    DoubleRay before = dr;
+    before.tmax = std::min(dr.tmax, tOurs - tTol);
     double tFirst = INFINITY;
     int32_t first = -1;
-    truth_.hitsInOrder(dr, [&](double t, uint32_t p) {
-        if (first < 0) {
-            first = int32_t(p);
-            tFirst = t;
-        }
-        if (!(t < tOurs - tTol)) return false;
-        if (counts(p)) reasons |= truth_.touchiness(p, dr, touch);
-        return true;
-    });
+    const bool clean =
+        before.tmin <= before.tmax && truth_.anyHitWhere(before, [&](double t, uint32_t p) {
+            if (!(t < tOurs - tTol)) return false;
+            if (t < tFirst || (t == tFirst && int32_t(p) < first)) {
+                tFirst = t;
+                first = int32_t(p);
+            }
+            if (!counts(p)) return false;  // judged in step 1
+            const uint32_t r = truth_.touchiness(p, dr, touch);
+            reasons |= r;
+            return r == 0;
+        });
+    if (clean) {
+        v.cls = HitClass::Wrong;
+        v.reasons = kMissedHit;
+        return v;
+    }
+    if (first < 0 && oursHit) first = truth_.closest(dr, tFirst);
     v.truth = {first >= 0 ? float(tFirst) : INFINITY, first};
     v.truthKnown = true;
     const bool agreesWithTruth =
@@ -248,7 +269,8 @@ HitClass HitClassifier::compareAnyHit(const Ray& ray, Hit ours, Hit reference) c
     return HitClass::Wrong;
 }
 
-Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours, Hit reference) const {
+Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours, Hit reference,
+                                     const std::function<Hit()>* more) const {
     Verdict v;
     v.rechecked = true;
     if (malformed(ray, ours)) {
@@ -280,14 +302,16 @@ Verdict HitClassifier::recheckAnyHit(const Ray& ray, Hit ours, Hit reference) co
     }
     // Ours saw nothing: every primitive the truth meets on the segment must be touchy; the
     // reference's first (a clean one settles it without a search).
-    if (reference.prim >= 0 && uint32_t(reference.prim) < truth_.primitiveCount()) {
-        double tr;
-        if (truth_.hit(uint32_t(reference.prim), dr, tr) &&
-            truth_.touchiness(uint32_t(reference.prim), dr, touch) == 0) {
-            v.cls = HitClass::Wrong;
-            v.reasons = kMissedHit;
-            return v;
-        }
+    auto witness = [&](Hit c) {
+        double tc;
+        return c.prim >= 0 && uint32_t(c.prim) < truth_.primitiveCount() &&
+               truth_.hit(uint32_t(c.prim), dr, tc) &&
+               truth_.touchiness(uint32_t(c.prim), dr, touch) == 0;
+    };
+    if (witnessAmong(reference, more, witness)) {
+        v.cls = HitClass::Wrong;
+        v.reasons = kMissedHit;
+        return v;
     }
     v.truth = truth_.closest(dr);
     v.truthKnown = true;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 
 #include "core/geometry/ray.h"
 #include "core/scene/scene.h"
@@ -110,7 +111,10 @@ public:
     // Recheck of a closest-hit mismatch against the double truth. `reference` (when it hits) is
     // tried first as the primitive ours missed: a clean one settles the verdict without a
     // search, so a tracer that answers every ray wrongly costs no more than a right one.
-    Verdict recheckClosest(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1}) const;
+    // `more` (may be null) gives another candidate when the reference's is not decisive: the
+    // reference's next hit on the ray.
+    Verdict recheckClosest(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1},
+                           const std::function<Hit()>* more = nullptr) const;
     // The truth's closest hit a verdict names: its own when it had to find it, else found now.
     Hit truthOf(const Ray& ray, const Verdict& v) const;
     // The first step of an any-hit query with a reported hit (certify's shadow set): both miss
@@ -120,7 +124,8 @@ public:
     // Recheck of an any-hit mismatch: ours off every surface -> wrong (off_surface); ours on a
     // surface -> ambiguous (the truth decides which side was off); ours a miss -> every
     // primitive the truth meets on the segment must be touchy, else wrong (missed_hit).
-    Verdict recheckAnyHit(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1}) const;
+    Verdict recheckAnyHit(const Ray& ray, Hit ours, Hit reference = {INFINITY, -1},
+                          const std::function<Hit()>* more = nullptr) const;
     // Recheck of an occlusion mismatch (ours != reference) on one ray, when only the yes/no
     // answer is known (the Film's shadow flags).
     Verdict recheckOcclusion(const Ray& ray, bool oursOccluded) const;

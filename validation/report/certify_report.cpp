@@ -39,17 +39,6 @@ const char* verdict(const SetCertification& s) {
 
 const char* queryName(QueryKind q) { return q == QueryKind::AnyHit ? "any_hit" : "closest"; }
 
-// The standard sets a ray file lacks: a PASS on some of them says it is partial.
-std::vector<std::string> missingStandardSets(const RayCertification& r) {
-    std::vector<std::string> out;
-    for (const RaySetDesc& d : standardRaySets()) {
-        bool present = false;
-        for (const SetCertification& s : r.sets) present = present || s.range.name == d.name;
-        if (!present) out.push_back(d.name);
-    }
-    return out;
-}
-
 std::string joined(const std::vector<std::string>& v) {
     std::string s;
     for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
@@ -99,7 +88,6 @@ json toJson(const RayCertification& r, double maxRate) {
     json examples = json::array();
     for (const Finding& f : r.examples) examples.push_back(findingWithExpected(f));
     j["examples"] = examples;
-    j["missing_standard_sets"] = missingStandardSets(r);
     return j;
 }
 
@@ -240,6 +228,7 @@ json toJson(const CertifyReport& r) {
             {"ambiguous", r.result.all.ambiguous},
             {"unverified", r.result.all.unverified + r.result.leakUnverified},
             {"leaks", r.result.leaks},
+            {"missing_standard_sets", r.missingSets},
             {"scene", scene},
             {"rays", r.rays},
             {"hits", r.hits},
@@ -275,7 +264,7 @@ std::string humanSummary(const CertifyReport& r) {
     for (const std::string& n : r.notes) s += "note     " + n + "\n";
     s += humanRaySets(r.result, r.policy.maxAmbiguousRate);
     s += "\n" + verdictLines(r);
-    const std::vector<std::string> missing = missingStandardSets(r.result);
+    const std::vector<std::string>& missing = r.missingSets;
     s +=
         fmt("%s: %llu wrong, %llu ambiguous, %llu unverified, %llu leaks (of %llu rays checked "
             "for leaks) over %llu rays%s (%.2f s)\n",
