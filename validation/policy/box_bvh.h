@@ -118,7 +118,7 @@ void BoxBvh::segment(const double org[3], const double dir[3], double t0, double
             }
             continue;
         }
-        double ta, tb;
+        double ta = 0.0, tb = 0.0;  // set by slabs() when it returns true
         const bool ha = slabs(nodes_[n.first], q, t0, t1, ta);
         const bool hb = slabs(nodes_[n.first + 1], q, t0, t1, tb);
         // Nearest popped first: push the farther one first.
