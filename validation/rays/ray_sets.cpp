@@ -575,7 +575,8 @@ void slivers(Context& c, Rng& rng, uint64_t n, RaySet& out) {
             if (!(tt > 0.0) || x < square.lo.x + c.margin || x > square.hi.x - c.margin ||
                 y < square.lo.y + c.margin || y > square.hi.y - c.margin)
                 continue;
-            out.targets.push_back({out.count(), tt, a, b, t.vertices[a], t.vertices[b]});
+            // No own triangles: the square seals the ray, whichever of its triangles is hit.
+            out.targets.push_back({out.count(), tt, a, b, t.vertices[a], t.vertices[b], {}, true});
             push(out, o, dir, 0.0f, INFINITY);
             placed = true;
         }
