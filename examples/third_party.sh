@@ -26,14 +26,14 @@ def cell(name):
     s = sets[name]
     return f'{s["wrong"]}/{s["ambiguous"]}' + (f'/{s["leaks"]}' if s["leak_checked"] else "")
 closed = "closed" if j["scene"]["topology"]["closed"] else "open"
-print(f'| {sys.argv[2]} ({closed}) | {sys.argv[3]} | {"PASS" if j["pass"] else "FAIL"} | '
+print(f'| {sys.argv[2]} ({closed}) | {sys.argv[3]} | {j["correct"]} | {j["watertight"]} | '
       f'{r["wrong"]} | {r["leaks"]} | ' + " | ".join(cell(n) for n in r["sets"]) + " |")
 EOF
 }
 
-echo "| mesh | tracer | verdict | wrong | leaks | camera | shadow | around | inside | axis |" \
-     "edges | vertices | grazing | tmin-tmax |"
-echo "|---|---|---|---:|---:|---|---|---|---|---|---|---|---|---|"
+echo "| mesh | tracer | correct | watertight | wrong | leaks | camera | shadow | around | inside |" \
+     "axis | edges | vertices | grazing | tmin-tmax |"
+echo "|---|---|---|---|---:|---:|---|---|---|---|---|---|---|---|---|"
 for m in "${meshes[@]}"; do
   name=$(basename "$m")
   d="$out/$name"

@@ -181,9 +181,6 @@ TEST(SliversRays, OnlyASliversSceneTakesTheSet) {
 }
 
 // octrace's kernel is watertight on slivers: no ray through the square is missed, by any layout.
-// Its t, though, comes from barycentric weights that are ill-conditioned on a sliver: some hits
-// at an edge or a vertex land beyond the target's t tolerance, and the leak check counts them
-// (docs/CERTIFY.md, "The slivers scene"). This test holds the first half.
 TEST(SliversCertify, EveryLayoutHitsEveryRay) {
     const Scene scene = makeSlivers(2000, 1);
     const RaySet rays = sliversRays(scene, 4000, 1);
@@ -203,9 +200,34 @@ TEST(SliversCertify, EveryLayoutHitsEveryRay) {
     }
 }
 
-// The whole leak check: today octrace's t on slivers fails it (see above). Enable when the
-// kernel's t is accurate on thin triangles.
-TEST(SliversCertify, DISABLED_EveryLayoutPassesTheLeakCheck) {
+// Every layout's t is where the ray crosses the square's plane, to 1e-6 of the extent: the
+// kernel recomputes an ill-conditioned t in double (core/geometry/primitives.h). In float
+// alone these rows came back up to 5.6e-4 of the extent off (4e-2 in 20,000 rows): within the
+// float error bound that the surface rule allows, so only this test holds the kernel to it.
+TEST(SliversCertify, EveryLayoutsTIsAtTheTarget) {
+    const Scene scene = makeSlivers(2000, 1);
+    const RaySet rays = sliversRays(scene, 4000, 1);
+    const double extent = sceneExtent(scene);
+    for (const LayoutDesc& layout : layouts()) {
+        SCOPED_TRACE(layout.name);
+        const HitArrays h = layoutHits(scene, layout, rays);
+        uint64_t off = 0;
+        double worst = 0.0;
+        for (const RayTarget& t : rays.targets) {
+            const Ray r = rays.ray(t.row);
+            const double dt =
+                std::fabs(double(h.t[t.row]) - t.t) * double(length(r.dir)) / extent;
+            worst = std::max(worst, dt);
+            off += !(dt <= 1e-6);
+        }
+        EXPECT_EQ(off, 0u) << "worst |dt| / extent " << worst;
+    }
+}
+
+// The whole leak check and the per-ray policy: every layout's t is at the target too (an
+// ill-conditioned t is recomputed in double, core/geometry/primitives.h; before, 74 rows of
+// slivers:2000 came back up to 4 % of the extent late).
+TEST(SliversCertify, EveryLayoutPassesTheLeakCheck) {
     const Scene scene = makeSlivers(2000, 1);
     const RaySet rays = sliversRays(scene, 4000, 1);
     for (const LayoutDesc& layout : layouts()) {
