@@ -215,8 +215,7 @@ TEST(SliversCertify, EveryLayoutsTIsAtTheTarget) {
         double worst = 0.0;
         for (const RayTarget& t : rays.targets) {
             const Ray r = rays.ray(t.row);
-            const double dt =
-                std::fabs(double(h.t[t.row]) - t.t) * double(length(r.dir)) / extent;
+            const double dt = std::fabs(double(h.t[t.row]) - t.t) * double(length(r.dir)) / extent;
             worst = std::max(worst, dt);
             off += !(dt <= 1e-6);
         }
