@@ -240,11 +240,11 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     }
 
     // Pass 3: the leak check of the targets. A target the generator could not seal tests
-    // nothing (unsealed). A sealed one passes when the ray hit a surface (its reported primitive,
-    // or with --no-prim any) at or before the target, within the t tolerance or the float error
-    // bound of the primitive it reports (a sliver's t may legitimately run late: hitTError);
-    // any other answer is a candidate, a leak when the truth meets the target's sealed surface
-    // on the stored ray.
+    // nothing (unsealed). A sealed one passes when the ray stopped on the surface (on its
+    // reported primitive or, where the id is wrong or absent, on any) at or before the target,
+    // within the t tolerance or the float error bound of that primitive (a sliver's t may
+    // legitimately run late: hitTError); any other answer is a candidate, a leak when the truth
+    // meets the target's sealed surface on the stored ray.
     std::vector<uint8_t> leak(n, uint8_t(LeakState::NotTarget));
     std::vector<LeakFinding> leaks(rays.targets.size());
     {
@@ -257,14 +257,18 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const Ray ray = rays.ray(tg.row);
             const float t = ours.t[tg.row];
             Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
-            if (!ours.primIds && o.prim >= 0 && !c.malformed(ray, o)) {
+            leaks[k].got = o;
+            // Watertightness asks whether the ray stopped on the surface, not which primitive
+            // it names (the per-ray check judges that): a point on the surface but off its
+            // reported primitive stopped there.
+            if (o.prim >= 0 && !c.malformed(ray, o) && !(ours.primIds && c.onSurface(ray, o))) {
                 bool on;
-                o.prim = c.surfacePrimitive(ray, t, on);
+                const int32_t p = c.surfacePrimitive(ray, t, on);
+                if (on || !ours.primIds) o.prim = p;
             }
             const bool sealedHere =
                 o.prim >= 0 && c.onSurface(ray, o) &&
                 double(t) <= tg.t + std::max(tTolerance(c, ray), c.hitTError(ray, o.prim));
-            leaks[k].got = o;
             isCandidate[k] = !sealedHere;
         });
         for (size_t k = 0; k < rays.targets.size(); ++k) {

@@ -47,7 +47,7 @@ OCT_HD inline Hit finishHit(Hit h) { return h.prim < 0 ? missHit() : h; }
 template <class Obs>
 OCT_HD inline void considerPrimitive(const PrimitivesView& p, uint32_t i, const PreparedRay& q,
                                      Hit& best, TraceCost& cost, Obs& obs) {
-    float t;
+    float t = INFINITY;  // written on a hit only; the observer sees it either way
     ++cost.primsTested;
     const bool hit = intersectPrimitive(p, i, q, best.t, t);
     obs.primTested(i, hit, t);

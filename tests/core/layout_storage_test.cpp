@@ -61,7 +61,9 @@ TEST(LayoutStorage, BytesAreTheListedArraysAndTheReportAgrees) {
         uint64_t listed = 0;
         b.visit([&](const auto& view) { listed = arrayBytes(view); });
         EXPECT_EQ(b.layoutBytes(), listed);
-        if (l.usesOctree) EXPECT_EQ(l.report(scene, *tree, o).bytes, listed);
+        if (l.usesOctree) {
+            EXPECT_EQ(l.report(scene, *tree, o).bytes, listed);
+        }
     }
 }
 

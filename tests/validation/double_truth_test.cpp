@@ -6,6 +6,7 @@
 // points, finite segments ending on a surface).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <string>
@@ -134,6 +135,31 @@ TEST(DoubleTruth, AcceleratedEqualsBruteForceFarFromTheOrigin) {
         for (Vec3* v : {&t.v0, &t.v1, &t.v2}) *v = *v + Vec3{5e5f, 4e6f, 0.0f};
     s.name = "teapot at (5e5, 4e6)";
     expectSameAnswers(s, 1500, 7);
+}
+
+// The distance from a point to a sliver is the point's, not the rounding of a barycentric
+// formula: on slivers:2000 (in z = 0, vertices on a 2^-24 grid, altitudes down to 8.5e-10),
+// an edge's midpoint (exact in double) lies on the triangle, the centroid within rounding of
+// it, and either lifted by 1e-9 lies 1e-9 away. Ericson's closest-point formula put a point
+// of a shared edge 2.2e-5 off one of its triangles, and certify called a right hit off the
+// surface.
+TEST(DoubleTruth, DistanceToASliverIsNotItsRoundingError) {
+    const Scene scene = loadScene("slivers:2000");
+    const DoubleTracer truth(scene, {2e-6, 1e-3});
+    double worst = 0.0;
+    uint32_t worstPrim = 0;
+    for (uint32_t k = 0; k < scene.primitiveCount(); ++k) {
+        const Triangle& t = scene.triangles[k];
+        const DVec3 v[3] = {toDouble(t.v0), toDouble(t.v1), toDouble(t.v2)};
+        std::vector<DVec3> on = {(v[0] + v[1]) * 0.5, (v[1] + v[2]) * 0.5, (v[2] + v[0]) * 0.5,
+                                 (v[0] + v[1] + v[2]) * (1.0 / 3.0)};
+        for (const DVec3& p : on)
+            for (double lift : {0.0, 1e-9}) {
+                const double err = std::fabs(truth.distanceTo(k, p + DVec3{0.0, 0.0, lift}) - lift);
+                if (err > worst) worst = err, worstPrim = k;
+            }
+    }
+    EXPECT_LE(worst, 1e-15) << "triangle #" << worstPrim;
 }
 
 }  // namespace

@@ -39,40 +39,43 @@ double segmentSegmentDist2(DVec3 p1, DVec3 q1, DVec3 p2, DVec3 q2) {
     return dot(diff, diff);
 }
 
-// Closest point of triangle abc to p (Ericson, sec. 5.1.5).
-DVec3 closestOnTriangle(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
-    DVec3 ab = b - a, ac = c - a, ap = p - a;
-    double d1 = dot(ab, ap), d2 = dot(ac, ap);
-    if (d1 <= 0.0 && d2 <= 0.0) return a;
-    DVec3 bp = p - b;
-    double d3v = dot(ab, bp), d4 = dot(ac, bp);
-    if (d3v >= 0.0 && d4 <= d3v) return b;
-    double vc = d1 * d4 - d3v * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3v <= 0.0) return a + ab * (d1 / (d1 - d3v));
-    DVec3 cp = p - c;
-    double d5 = dot(ab, cp), d6 = dot(ac, cp);
-    if (d6 >= 0.0 && d5 <= d6) return c;
-    double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-    double va = d3v * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3v) >= 0.0 && (d5 - d6) >= 0.0)
-        return b + (c - b) * ((d4 - d3v) / ((d4 - d3v) + (d5 - d6)));
-    double sum = va + vb + vc;
-    if (!(sum != 0.0)) return a;  // degenerate triangle: fall back to a vertex
-    double v = vb / sum, w = vc / sum;
-    return a + ab * v + ac * w;
-}
-
-double pointTriangleDist(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
-    return length(p - closestOnTriangle(p, a, b, c));
-}
-
 // Distance from p to the segment a + s (b - a), s in [0, 1].
 double pointSegmentDist(DVec3 p, DVec3 a, DVec3 b) {
     DVec3 ab = b - a;
     double l2 = dot(ab, ab);
     double s = l2 > 0.0 ? clamp01(dot(p - a, ab) / l2) : 0.0;
     return length(p - (a + ab * s));
+}
+
+// Distance from p to triangle abc, never below the true one beyond rounding, and accurate on
+// slivers: the distance to the plane when p lies over the triangle (each edge's side decided
+// from that edge's own endpoints), plus the tilt the normal's rounding can give it; else, and
+// in any case at most, the distance to the nearest edge. (Ericson's closest-point formula,
+// barycentrics as differences of products of dot products, put a point of a shared edge of
+// slivers:2000 2.2e-5 off one of its triangles.) The normal's components carry an error of at
+// most 2u (|x_j y_k| + |x_k y_j|) each (u = 2^-53; the edge vectors are exact, differences of
+// floats); only its part across n tilts the plane.
+double pointTriangleDist(DVec3 p, DVec3 a, DVec3 b, DVec3 c) {
+    const double edges =
+        std::min({pointSegmentDist(p, a, b), pointSegmentDist(p, b, c), pointSegmentDist(p, c, a)});
+    const DVec3 ab = b - a, ac = c - a;
+    const DVec3 n = cross(ab, ac);
+    const double n2 = dot(n, n);
+    if (!(n2 > 0.0)) return edges;  // a segment or a point
+    if (dot(n, cross(ab, p - a)) < 0.0 || dot(n, cross(c - b, p - b)) < 0.0 ||
+        dot(n, cross(a - c, p - c)) < 0.0)
+        return edges;
+    const double nl = std::sqrt(n2);
+    const DVec3 err = DVec3{std::fabs(ab.y * ac.z) + std::fabs(ab.z * ac.y),
+                            std::fabs(ab.z * ac.x) + std::fabs(ab.x * ac.z),
+                            std::fabs(ab.x * ac.y) + std::fabs(ab.y * ac.x)} *
+                      0x1p-52;
+    // |e across n| <= sum_i |e_i| |axis i across n| = sum_i err_i sqrt(1 - n_i^2 / |n|^2).
+    const double across = err.x * std::sqrt(std::max(0.0, 1.0 - n.x * n.x / n2)) +
+                          err.y * std::sqrt(std::max(0.0, 1.0 - n.y * n.y / n2)) +
+                          err.z * std::sqrt(std::max(0.0, 1.0 - n.z * n.z / n2));
+    const double tilt = across / nl * length(p - a);
+    return std::min(edges, std::fabs(dot(n, p - a)) / nl + tilt);
 }
 
 // Watertight ray/triangle test in double: the three signed volumes of the ray with each edge
