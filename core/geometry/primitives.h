@@ -49,11 +49,13 @@ OCT_HD inline ShearedRay makeShearedRay(Vec3 org, Vec3 dir) {
     return r;
 }
 
-// The hit's t recomputed in double by the same steps as intersectTriangle (translate, shear,
-// edge functions, scaled distance), on the same float inputs: for a hit whose float t is
+// The hit recomputed in double by the same steps as intersectTriangle (translate, shear, edge
+// functions, scaled distance), on the same float inputs: for a hit whose float t is
 // ill-conditioned (a sliver, a grazing ray), see intersectTriangle. False when the double
-// determinant is zero (the float t is kept then).
-OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, double& t) {
+// determinant is zero (the ray in the plane: Woop et al.'s miss) and, with `decide`, when the
+// double edge functions have mixed signs (the ray passes outside).
+OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, bool decide,
+                                     double& t) {
     const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
     double x[3], y[3], z[3];
     for (int i = 0; i < 3; ++i) {
@@ -65,10 +67,32 @@ OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, d
     const double u = x[2] * y[1] - y[2] * x[1];
     const double w = x[1] * y[0] - y[1] * x[0];
     const double v2 = x[0] * y[2] - y[0] * x[2];
+    if (decide && (u < 0.0 || v2 < 0.0 || w < 0.0) && (u > 0.0 || v2 > 0.0 || w > 0.0))
+        return false;
     const double det = u + v2 + w;
     if (det == 0.0) return false;
     t = (u * z[0] + v2 * z[1] + w * z[2]) / det;
     return true;
+}
+
+// Whether the ray lies in the triangle's plane to within the rounding of its direction:
+// |cos(d, n)| <= 2^-21 (8 float ulps), the normal and the sheared direction (sx, sy, 1) in
+// double, so that a sliver's ill-conditioned float normal does not count.
+OCT_HD inline bool rayInPlane(const ShearedRay& r, const Triangle& tri) {
+    double e1[3], e2[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = double(tri.v1[k]) - double(tri.v0[k]);
+        e2[k] = double(tri.v2[k]) - double(tri.v0[k]);
+    }
+    d[r.kx] = double(r.sx);
+    d[r.ky] = double(r.sy);
+    d[r.kz] = 1.0;
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    const double nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    return nd * nd <= 0x1p-42 * nn * dd;
 }
 
 // The relative error of t above which intersectTriangle recomputes it in double: 2^-20, some
@@ -79,8 +103,9 @@ constexpr float kTriangleRefine = 0x1p-20f;
 // Both faces count. Edge functions that are exactly zero are recomputed in double, as Woop,
 // Benthin & Wald (2013) prescribe, so a ray through a shared edge hits at least one of the two.
 // Which triangles are hit is decided in float, so that two triangles sharing an edge compute
-// its edge function alike (watertightness). The distance of a hit is recomputed in double when
-// its float error bound exceeds kTriangleRefine relative: the edge functions' error (Pharr,
+// its edge function alike (watertightness); only a ray in the triangle's plane to within
+// rounding is decided in double. The distance of a hit is recomputed in double when its float
+// error bound exceeds kTriangleRefine relative: the edge functions' error (Pharr,
 // Jakob & Humphreys, PBRT 3rd ed., sec. 3.9.6: delta_e, grown by the sheared z as shear and
 // translation round) moves t by at most 3 delta_e / |det| times the vertices' spread in z
 // around t, which slivers and grazing rays make large (docs/VALIDATION.md, "The surface
@@ -117,8 +142,13 @@ OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, f
     const float dx = 5.0f * eps * (maxX + maxZ), dy = 5.0f * eps * (maxY + maxZ);
     const float de = 2.0f * (2.0f * eps * maxX * maxY + dy * maxX + dx * maxY);
     if (3.0f * de * spread > kTriangleRefine * fabsf(tScaled)) {
+        // Ill-conditioned. A ray in the triangle's plane to within rounding projects it onto a
+        // segment through the origin: the float signs are noise, so the double decides (a hit
+        // was once reported at the plane's crossing, 12 ulps off the triangle). Elsewhere, a
+        // sliver included, the float decision stands, shared with the neighbours.
         double t;
-        if (triangleTInDouble(r, tri, t)) tHit = float(t);
+        if (!triangleTInDouble(r, tri, rayInPlane(r, tri), t)) return false;
+        tHit = float(t);
     } else if (det < 0.0f) {
         // Compare t*det against the range as the paper does (the division above is only used
         // once this passes).
