@@ -268,5 +268,27 @@ TEST(HitCheckSpheres, FarRootIsWrongNotAmbiguous) {
     EXPECT_EQ(c.recheckClosest(inside, {0.5f, 0}).cls, HitClass::Ambiguous);
 }
 
+// Far from the origin the surface bound grows with the magnitudes (kSurfaceUlps x 2^-24 x
+// (|o| + M)), but no further than one unit roundoff of them: at 1e8, where an ulp is 8, a hit
+// reported 12 ulps (96) off its triangle is wrong. octrace's kernel once reported this very
+// one: a ray lying in the triangle's plane to within its rounding, "hit" at the plane's
+// crossing (t = 0, its origin) outside the triangle. With 64 unit roundoffs (a bound of 763)
+// it passed.
+TEST(HitCheckFar, AHitTwelveUlpsOffItsTriangleAt1e8IsWrong) {
+    auto at = [](float x, float y, float z) {
+        return Vec3{1e8f + 8.0f * x, 1e8f + 8.0f * y, 1e8f + 8.0f * z};
+    };
+    Scene s;
+    s.name = "ulp-grid";
+    s.triangles = {{at(9, 6, 2), at(10, 7, 2), at(9, 7, 1)}};
+    HitClassifier c(s, ValidationPolicy{});
+    const Ray inPlane = {at(1, 8, -8), {0.662084699f, -0.0827605873f, 0.744845271f}, 0, INFINITY};
+    const Verdict v = c.closest(inPlane, {0.0f, 0}, {INFINITY, -1});
+    EXPECT_EQ(v.cls, HitClass::Wrong) << reasonNames(v.reasons);
+    EXPECT_TRUE(v.reasons & kOffSurface) << reasonNames(v.reasons);
+    EXPECT_GT(c.surfaceDistance(inPlane, {0.0f, 0}), 90.0);
+    EXPECT_LT(c.surfaceBound(inPlane, 0), 90.0);
+}
+
 }  // namespace
 }  // namespace oct

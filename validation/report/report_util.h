@@ -117,7 +117,8 @@ inline json policyJson(const ValidationPolicy& p) {
             {"edge_tolerance", p.edgeTolerance},
             {"grazing_cos", p.grazingCos},
             {"max_ambiguous_rate", p.maxAmbiguousRate},
-            {"max_rechecks", p.maxRechecks}};
+            // null: no cap, every mismatch rechecked (the default)
+            {"max_rechecks", p.maxRechecks == UINT64_MAX ? json(nullptr) : json(p.maxRechecks)}};
 }
 
 inline json referenceJson(double seconds) {
