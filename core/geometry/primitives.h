@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "core/geometry/vec3.h"
+#include "core/geometry/vec3t.h"
 
 namespace oct {
 
@@ -79,20 +80,14 @@ OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, b
 // |cos(d, n)| <= 2^-21 (8 float ulps), the normal and the sheared direction (sx, sy, 1) in
 // double, so that a sliver's ill-conditioned float normal does not count.
 OCT_HD inline bool rayInPlane(const ShearedRay& r, const Triangle& tri) {
-    double e1[3], e2[3], d[3];
-    for (int k = 0; k < 3; ++k) {
-        e1[k] = double(tri.v1[k]) - double(tri.v0[k]);
-        e2[k] = double(tri.v2[k]) - double(tri.v0[k]);
-    }
+    const DVec3 n = cross(toDouble(tri.v1) - toDouble(tri.v0), toDouble(tri.v2) - toDouble(tri.v0));
+    double d[3];
     d[r.kx] = double(r.sx);
     d[r.ky] = double(r.sy);
     d[r.kz] = 1.0;
-    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                         e1[0] * e2[1] - e1[1] * e2[0]};
-    const double nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-    const double nn = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-    const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    return nd * nd <= 0x1p-42 * nn * dd;
+    const DVec3 dir{d[0], d[1], d[2]};
+    const double nd = dot(n, dir);
+    return nd * nd <= 0x1p-42 * dot(n, n) * dot(dir, dir);
 }
 
 // The relative error of t above which intersectTriangle recomputes it in double: 2^-20, some
