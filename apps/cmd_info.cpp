@@ -133,7 +133,7 @@ void runInfo(const InfoOptions& o) {
     bool tris = scene.kind == PrimKind::Triangles;
     nlohmann::json j;
     j["scene"] = {{"name", scene.name},
-                  {"kind", tris ? "triangles" : "spheres"},
+                  {"kind", primKindName(scene.kind)},
                   {"primitives", scene.primitiveCount()},
                   {"primitive_bytes",
                    uint64_t(scene.primitiveCount()) * (tris ? sizeof(Triangle) : sizeof(Sphere))}};

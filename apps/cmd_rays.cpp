@@ -116,8 +116,8 @@ void runRays(const RaysOptions& o) {
     notes.insert(notes.end(), rays.notes.begin(), rays.notes.end());
     for (const std::string& n : notes) std::printf("note    %s\n", n.c_str());
     std::printf("%s: %u %s; %llu rays, seed %llu\n", scene.name.c_str(), scene.primitiveCount(),
-                scene.kind == PrimKind::Triangles ? "triangles" : "spheres",
-                (unsigned long long)rays.count(), (unsigned long long)o.seed);
+                primKindName(scene.kind), (unsigned long long)rays.count(),
+                (unsigned long long)o.seed);
     for (const RaySetRange& r : rays.sets)
         std::printf("  %-10s rows %llu..%llu (%llu)\n", r.name.c_str(), (unsigned long long)r.begin,
                     (unsigned long long)(r.begin + r.count), (unsigned long long)r.count);

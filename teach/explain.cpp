@@ -489,8 +489,6 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
 
 namespace {
 
-std::string kindName(PrimKind k) { return k == PrimKind::Triangles ? "triangles" : "spheres"; }
-
 std::string totalsText(const StepTotals& t) {
     std::string s = std::to_string(t.boxTests) + " node boxes tested (" +
                     std::to_string(t.boxesHit) + " met), " + std::to_string(t.primTests) +
@@ -538,7 +536,7 @@ void appendRay(std::string& out, const Explanation& e, int index) {
 
 std::string explainText(const Explanation& e) {
     std::string out = "octrace explain  " + e.scene + " (" + std::to_string(e.primitives) + " " +
-                      kindName(e.kind) + "), layout " + e.layout + "\n";
+                      primKindName(e.kind) + "), layout " + e.layout + "\n";
     if (e.pixelMode)
         out += "pixel (" + std::to_string(e.x) + ", " + std::to_string(e.y) + ") of " +
                std::to_string(e.width) + "x" + std::to_string(e.height) +
@@ -574,7 +572,7 @@ std::string explainJson(const Explanation& e) {
     json j;
     j["scene"] = e.scene;
     j["primitives"] = e.primitives;
-    j["kind"] = kindName(e.kind);
+    j["kind"] = primKindName(e.kind);
     j["layout"] = e.layout;
     if (e.pixelMode)
         j["query"] = {{"pixel", {e.x, e.y}}, {"image", {e.width, e.height}}};

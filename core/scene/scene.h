@@ -36,6 +36,11 @@ struct LoadReport {
     }
 };
 
+// The kind as files and reports spell it: "triangles" or "spheres" (manifests, JSON, reports).
+inline const char* primKindName(PrimKind k) {
+    return k == PrimKind::Triangles ? "triangles" : "spheres";
+}
+
 struct Scene {
     std::string name;  // path it came from, or the generator spec
     PrimKind kind = PrimKind::Triangles;

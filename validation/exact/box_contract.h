@@ -1,29 +1,9 @@
-// The box-test contract (docs/VALIDATION.md, "The box-test contract"): the two float tests
-// every octree traversal rests on, checked against exact rational arithmetic on the canonical
-// octree's own node boxes.
-//
-//  box       intersectBox (core/geometry/aabb.h): the linear and hash traversals' test of every
-//            child, and the compact layout's root and quantised-bounds test;
-//  children  compact_detail::childIntervals (core/octree/compact_octree.h): the compact
-//            layout's eight children of an internal node in one go.
-//
-// For a ray o + t d and a closed box, "meets" means: some real t in [tmin, tmax] puts the point
-// in the box. With tmin = 0 the contract is
-//  conservative  an exact meet is never culled, touching (the exact interval a single t)
-//                included: Ize's far-distance scaling (Ize 2013) exists for this;
-//  tight         a ray that misses the box grown on every side by kBoxContractSlack of its edge
-//                or of its distance from the origin (rounding is relative to t), whichever is
-//                larger, is culled: rounding may widen the test, nothing else may.
-// A finite tmax is checked only where its entry t is exact in float (axis directions, exact
-// differences), because the kernel compares tmax with the rounded entry: a ray whose segment
-// ends inside the rounding of its entry may go either way, and that changes a hit by rounding
-// only.
-//
-// Rays are drawn so the hard cases occur by construction: origins on a face, edge or corner
-// leaving the box (the exact interval is [0, 0]); segments that end exactly where they enter
-// a box; rays through points within a few ulps of an edge or corner (grazing, either side);
-// and rays in general position. The exact answer is GMP rational arithmetic on the stored
-// floats (o, d, the box's bounds), not on the reciprocal the kernel computes.
+// The box-test contract: the kernel's two float slab tests (intersectBox, core/geometry/aabb.h,
+// and compact_detail::childIntervals, core/octree/compact_octree.h) checked against exact GMP
+// rational arithmetic on the canonical octree's own node boxes. Conservative (an exact meet,
+// touching included, is never culled) and tight (a ray missing the box grown by
+// kBoxContractSlack is culled). The rules, the rays drawn and why: docs/VALIDATION.md, "The
+// box-test contract".
 #pragma once
 
 #include <cstdint>

@@ -98,7 +98,7 @@ RayManifest describeRaySet(const Scene& scene, const RaySetSpec& spec, const Ray
     RayManifest m;
     m.octrace = octraceVersion();
     m.scene = scene.name;
-    m.kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
+    m.kind = primKindName(scene.kind);
     m.primitives = scene.primitiveCount();
     m.fingerprint = sceneFingerprint(scene);
     // The radius a point cloud file was loaded with, so that certify loads the same spheres. A
@@ -261,7 +261,7 @@ void checkManifestRows(const RayManifest& m, uint64_t n, const std::string& rays
 }
 
 void checkSameScene(const RayManifest& m, const Scene& scene, const std::string& raysPath) {
-    const std::string kind = scene.kind == PrimKind::Triangles ? "triangles" : "spheres";
+    const std::string kind = primKindName(scene.kind);
     const std::string fingerprint = m.fingerprint.empty() ? "" : sceneFingerprint(scene);
     if (m.kind == kind && m.primitives == scene.primitiveCount() && m.fingerprint == fingerprint)
         return;

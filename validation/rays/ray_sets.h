@@ -1,62 +1,10 @@
-// The standard ray sets of `octrace rays` (docs/CERTIFY.md) and of `octrace validate --rays`: the
-// configurations image rays rarely meet and tracers get wrong. Each set is named; a ray file is
-// its sets' rows one after another (RaySetRange), in the trace format of docs/TRACE_FORMAT.md.
-//
-//  camera    the render's pinhole rays, row-major (y * W + x), as makeFrame/primaryRay make them;
-//  shadow    for each camera ray a reference tracer hits, the kernel's own shadow ray from that
-//            hit (shadowQuery, core/render/kernel.h) when the surface faces the light: a
-//            finite segment towards the light;
-//  around    origins on a sphere of 1.5 x the scene's bounding radius, aimed at points uniform
-//            in the scene's box;
-//  inside    origins uniform in the octree's root cube, directions uniform on the sphere; one
-//            in four has a finite tmax, uniform in [0, bounding radius];
-//  axis      origins uniform in the root cube, directions +-x, +-y, +-z; every other one has
-//            one other coordinate moved onto a node boundary plane of depth 1 to 3 (the same
-//            float midpoints as childBox), so it runs inside a face shared by two nodes;
-//  edges     aimed at a point of an edge shared by exactly two triangles (a parameter in
-//            [0.2, 0.8] along it, the point computed in float as a tracer computes a hit
-//            point), from the front side of the two triangles (the side their winding's normal
-//            points to), at a distance of 1 to 3 times the longest side of the two triangles;
-//  vertices  aimed at a vertex whose triangles close a fan around it, the same way;
-//  grazing   through a point inside a triangle at |cos(ray, normal)| between 5e-7 and 3e-2;
-//  tmin-tmax through a point inside a triangle at |cos| >= 0.2, in four variants by row: the
-//            ray starts at the point (tmin 0); tmax is exactly the distance to the triangle's
-//            plane; tmin is exactly that distance; tmax is one float below it;
-//  slivers   on a slivers:N scene only (core/scene/slivers.h): aimed at a point of its square,
-//            by row two in four uniform in the square, one on an interior edge (a parameter in
-//            [0, 1], computed in float), one at an interior vertex; from above or below, at
-//            |cos(ray, normal)| = u^2 for u uniform in [0.1, 1], 0.25 to 2 away. Kept when the
-//            stored float ray meets the plane at least 1e-5 x the extent inside the square:
-//            the target is that crossing (t in double), and every ray must hit.
-//
-// An edges or vertices ray is *sealed* when, for the ray as stored (the float row):
-//  - seen along it, the two triangles of its edge (the fan of its vertex) cover a disc of radius
-//    1e-5 x the scene's extent around the point where it passes (not the point aimed at: the
-//    float origin lies up to half a spacing off, 0.25 at y = 4e6), and every one of them meets
-//    the ray at |cos| >= 0.1 (edges) or 0.05 (vertices); and
-//  - the double-precision truth (DoubleTracer::closest on the stored ray) hits one of those
-//    triangles within the default t tolerance (1e-5 x extent) of the target's t: nothing in
-//    front hides the target, and the float ray does meet it (far from the origin the rounded
-//    origin moved 43 % of the rays off their targets).
-// A tracer without cracks must then hit at or before the target (certify's leak check,
-// certify.h), and a leak there is a crack at this edge or vertex. A direction that is not sealed
-// is drawn again, up to 200 times; a target that never is keeps its last valid row, marked
-// unsealed (RayTarget::sealed): certify judges the row but does not count it as checked for
-// leaks. `notes` says how many.
-//
-// Every row is one `octrace trace` accepts (rayRowProblem, core/io/ray_file.h): a draw that
-// breaks the row rule (a NaN direction where the origin rounded onto the target point) is drawn
-// again and counted in `notes`, never written.
-// A slivers ray is sealed by the square itself: flat, and covered by its triangles without a gap.
-//
-// Same seed, same bytes, on every machine: each seeded set draws from its own std::mt19937_64
-// stream, seeded with splitmix64(seed + 0x9E3779B97F4A7C15 x (set id + 1)), using its raw output
-// only (no std::*_distribution, whose output the standard leaves to the implementation), and
-// no function whose rounding the platform chooses: directions by rejection from the cube,
-// then +, -, x, / and sqrt (IEEE), under -ffp-contract=off. The camera set goes through
-// makeFrame, which calls the platform's tanf/atanf/sinf; the shadow set depends on the
-// reference tracer's camera hits. The seeded sets' count N is split as evenly as possible over
-// them in the order given (the first ones get the remainder).
+// The standard ray sets of `octrace rays` and `octrace validate --rays`: the configurations
+// image rays rarely meet and tracers get wrong, one row each in standardRaySets(). A ray file
+// is its sets' rows one after another (RaySetRange), in the trace format (docs/TRACE_FORMAT.md).
+// Invariants: every row is one `octrace trace` accepts (rayRowProblem, core/io/ray_file.h); an
+// edges or vertices target counts for the leak check only when sealed as stored in float; the
+// same seed gives the same bytes on every machine. What each set holds, what "sealed" means and
+// how the streams are seeded: docs/CERTIFY.md, "The ray sets".
 #pragma once
 
 #include <cstdint>

@@ -1,22 +1,8 @@
-// Cost baselines: regression of the traversal's work. Hits can all be right while the octree is
-// walked badly (children visited far-to-near instead of near-to-far raises node visits by
-// 20-211 %), so the mean cost per pixel of the kernel (TraceCost: nodes visited and primitives
-// tested, primary + shadow ray, core/geometry/ray.h) is pinned per scene and per layout for the
-// default camera at a fixed size, in a committed file (tests/data/cost_baselines.json):
-//
-//   {"format": "octrace-cost-baselines", "version": 1, "octrace": "0.1.0",
-//    "render": {"width": 128, "height": 128, "camera": "default", "max_depth": 7,
-//               "max_prims": 8, "radius": 0},
-//    "scenes": [{"scene": "meshes/teapot.obj", "pixels": 16384,
-//                "layouts": {"linear": {"nodes": 1234567, "prims": 234567,
-//                                       "nodes_per_pixel": 75.35, "prims_per_pixel": 14.32},
-//                            ...}}, ...]}
-//
-// `nodes` and `prims` are the frame's totals (the check compares these; the means are for the
-// reader). Every layout of the registry is checked. The rule (docs/VALIDATION.md, "Cost
-// baselines"): a mean more than `tolerance` above its baseline fails; a drop of more than the
-// tolerance is reported (a bug that skips work, or an improvement to pin with --update) and
-// passes; traversal is deterministic, so an unchanged build reproduces the totals exactly.
+// Cost baselines: regression of the traversal's work (nodes visited, primitives tested per frame,
+// TraceCost) pinned per scene and per layout of the registry in a committed JSON file
+// (tests/data/cost_baselines.json). Traversal is deterministic, so an unchanged build
+// reproduces the totals exactly. The file's fields and the rule (same / within / increased /
+// dropped / missing / stale): docs/VALIDATION.md, "Cost baselines".
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -101,13 +101,9 @@ inline std::string reasonsText(const ClassCounts& c) {
 // `scene` (name, kind, primitives, extent), `policy`, `reference`. Text: the head of the first
 // line ("validate NAME: 992 triangles, extent 3.2") and the policy line, whose pass rule
 // differs (it ends at "<= max ambiguous rate").
-inline const char* kindName(PrimKind k) {
-    return k == PrimKind::Triangles ? "triangles" : "spheres";
-}
-
 inline json sceneJson(const JudgedScene& r) {
     return {{"name", r.scene},
-            {"kind", kindName(r.kind)},
+            {"kind", primKindName(r.kind)},
             {"primitives", r.primitives},
             {"extent", r.extent}};
 }
@@ -127,7 +123,7 @@ inline json referenceJson(double seconds) {
 
 inline std::string sceneHead(const char* command, const JudgedScene& r) {
     return fmt("%s %s: %u %s, extent %.6g", command, r.scene.c_str(), r.primitives,
-               kindName(r.kind), r.extent);
+               primKindName(r.kind), r.extent);
 }
 
 inline std::string policyLine(const ValidationPolicy& p, const char* passRule) {
