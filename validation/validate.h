@@ -3,8 +3,9 @@
 // shadow rays) and per ray of the seeded ray sets, plus the replication check of the canonical
 // octree. The per-ray check is `octrace certify`'s (certify.h): validate generates our hits for
 // the standard sets around, inside and axis, then certifies them. The callables keep validation
-// away from the layouts' insides; the CLI builds them with apps/backend.h, the tests with the
-// OpenMP launcher or a deliberately corrupted layout.
+// away from the layouts' insides; the CLI builds them from the backend list's SceneTracers
+// (backends/backend_list.h), the tests from the OpenMP launcher or a deliberately corrupted
+// layout.
 #pragma once
 
 #include <functional>
