@@ -1,16 +1,20 @@
 #include "core/io/output_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <stb_image_write.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <random>
 
 namespace oct {
 
@@ -106,23 +110,10 @@ void held(F&& f) {
     leave();
 }
 
-int registerTemp(const std::string& tmp) {
-    installHandlersOnce();
-    if (tmp.size() >= kMaxTempPath)
-        throw IoError("cannot write '" + tmp + "': the path is longer than " +
-                      std::to_string(kMaxTempPath - 1) + " bytes");
-    int slot = -1;
-    held([&] {
-        for (int i = 0; i < kMaxTemps && slot < 0; ++i)
-            if (!gTempUsed[i].load()) slot = i;
-        if (slot < 0) return;
-        std::memcpy(gTempPath[slot], tmp.c_str(), tmp.size() + 1);
-        gTempUsed[slot].store(1);
-    });
-    if (slot < 0)
-        throw IoError("cannot write '" + tmp + "': more than " + std::to_string(kMaxTemps) +
-                      " outputs are being written at once");
-    return slot;
+int freeSlotHeld() {  // inside a held section; -1 when the table is full
+    for (int i = 0; i < kMaxTemps; ++i)
+        if (!gTempUsed[i].load()) return i;
+    return -1;
 }
 
 void releaseTempHeld(int slot) {  // inside a held section
@@ -137,11 +128,103 @@ void discardTemp(const std::string& tmp, int slot) {
     });
 }
 
-// ---- Writing ------------------------------------------------------------------------------------
+// ---- Temporary names ----------------------------------------------------------------------------
+//
+// A temporary is NAME.tmp.XXXXXXXX beside its output (the same folder: the rename into place
+// must not cross file systems), XXXXXXXX eight characters of [0-9A-Za-z] from getrandom (47
+// bits), created with O_CREAT|O_EXCL|O_NOFOLLOW: whatever is at that name already (a file, a
+// symlink, a dangling symlink someone planted) is never opened, followed or truncated; the
+// next name is drawn instead. The name used to be NAME.tmp.PID opened with fopen("wb"): a
+// symlink planted there had its target truncated and overwritten.
 
-std::string tempNameFor(const std::string& path) {
-    return path + ".tmp." + std::to_string(::getpid());
+constexpr int kTempNameAttempts = 64;
+constexpr char kSuffixAlphabet[] = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+constexpr size_t kSuffixLength = 8;
+
+TempSuffixSource gSuffixSource = nullptr;  // tests only (setTempSuffixSourceForTests)
+
+std::string randomSuffix() {
+    if (gSuffixSource) return gSuffixSource();
+    unsigned char bytes[kSuffixLength];
+    if (::getrandom(bytes, sizeof bytes, 0) != ssize_t(sizeof bytes)) {
+        std::random_device device;  // getrandom missing (a kernel before 3.17): the C++ source
+        for (unsigned char& b : bytes) b = static_cast<unsigned char>(device());
+    }
+    std::string s;
+    for (unsigned char b : bytes) s += kSuffixAlphabet[b % (sizeof kSuffixAlphabet - 1)];
+    return s;
 }
+
+// An open temporary: its name, its entry in the signal handler's table, and its descriptor
+// (closed by the destructor unless writeTemp closed it, checking the result).
+struct Temp {
+    std::string path;
+    int slot = -1;
+    int fd = -1;
+    Temp() = default;
+    Temp(const Temp&) = delete;
+    Temp& operator=(const Temp&) = delete;
+    ~Temp() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+// Creates a new, empty temporary for `target` (mode 0666 less the umask, as fopen gives). The
+// file is created and entered in the handler's table in one held section: the table never
+// names a file this process did not create (a signal would unlink it), and no file this
+// process created is missing from it.
+void createTemp(const std::string& target, Temp& t) {
+    installHandlersOnce();
+    for (int attempt = 0; attempt < kTempNameAttempts; ++attempt) {
+        const std::string tmp = target + ".tmp." + randomSuffix();
+        if (tmp.size() >= kMaxTempPath)
+            throw IoError("cannot write '" + target + "': the path is longer than " +
+                          std::to_string(kMaxTempPath - 1 - kSuffixLength - 5) + " bytes");
+        int slot = -1, fd = -1, err = 0;
+        held([&] {
+            slot = freeSlotHeld();
+            if (slot < 0) return;
+            fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+            err = errno;
+            if (fd < 0) return;
+            std::memcpy(gTempPath[slot], tmp.c_str(), tmp.size() + 1);
+            gTempUsed[slot].store(1);
+        });
+        if (slot < 0)
+            throw IoError("cannot write '" + target + "': more than " + std::to_string(kMaxTemps) +
+                          " outputs are being written at once");
+        if (fd >= 0) {
+            t.path = tmp;
+            t.slot = slot;
+            t.fd = fd;
+            return;
+        }
+        if (err != EEXIST)
+            throw IoError("cannot write '" + target + "': " + std::strerror(err) +
+                          " (check that the folder exists and is writable)");
+    }
+    throw IoError("cannot write '" + target + "': " + std::to_string(kTempNameAttempts) +
+                  " temporary names beside it (" + target +
+                  ".tmp.*) were all taken; remove the stale ones");
+}
+
+// write(2) until every byte is written; false with err set on a failure.
+bool writeAll(int fd, const void* data, size_t bytes, int& err) {
+    const char* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::write(fd, p, std::min(bytes, size_t(1) << 30));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            err = n < 0 ? errno : EIO;
+            return false;
+        }
+        p += n;
+        bytes -= size_t(n);
+    }
+    return true;
+}
+
+// ---- Writing ------------------------------------------------------------------------------------
 
 // An output is replaced by renaming a complete file onto it: onto a device node (as root) that
 // would replace the node itself (/dev/null), onto a directory it fails late. Refused up front.
@@ -154,30 +237,19 @@ void refuseSpecialTarget(const std::string& path) {
                   "name a regular file");
 }
 
-// Writes bytes to tmp (registered as `slot`); on failure removes it and throws naming the
-// target path.
-void writeTemp(const std::string& path, const std::string& tmp, int slot, const void* data,
-               size_t bytes) {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) {
-        int err = errno;
-        discardTemp(tmp, slot);
-        throw IoError("cannot write '" + path + "': " + std::strerror(err) +
-                      " (check that the folder exists and is writable)");
-    }
-    errno = 0;
-    bool ok = bytes == 0 || std::fwrite(data, 1, bytes, f) == bytes;
-    int err = errno;
-    if (std::fflush(f) != 0 && ok) {
-        ok = false;
-        err = errno;
-    }
-    if (std::fclose(f) != 0 && ok) {
+// Writes bytes to the open temporary t and closes it; on failure removes it and throws naming
+// the target path.
+void writeTemp(const std::string& path, Temp& t, const void* data, size_t bytes) {
+    int err = 0;
+    bool ok = writeAll(t.fd, data, bytes, err);
+    const int fd = t.fd;
+    t.fd = -1;
+    if (::close(fd) != 0 && ok) {  // NFS reports a failed write at close
         ok = false;
         err = errno;
     }
     if (!ok) {
-        discardTemp(tmp, slot);
+        discardTemp(t.path, t.slot);
         throw IoError("cannot write '" + path + "': " + std::strerror(err ? err : EIO) +
                       " (nothing was written; free space or choose another folder)");
     }
@@ -241,10 +313,10 @@ void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
             throw IoError("outputs '" + s.path + "' and '" + path +
                           "' are the same file; give each output its own path");
     refuseSpecialTarget(path);
-    std::string tmp = tempNameFor(path);
-    int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, data, bytes);
-    staged_.push_back({path, tmp, slot});
+    Temp t;
+    createTemp(path, t);
+    writeTemp(path, t, data, bytes);
+    staged_.push_back({path, t.path, t.slot});
 }
 
 void OutputSet::commit() {
@@ -266,13 +338,16 @@ void OutputSet::commit() {
     });
 }
 
+// Creates a temporary as stage() would, and removes it: nothing is created or truncated at a
+// name anyone could guess.
 void checkWritable(const std::string& path) {
     refuseSpecialTarget(path);
-    std::string tmp = tempNameFor(path);
-    int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, "", 0);
-    discardTemp(tmp, slot);
+    Temp t;
+    createTemp(path, t);
+    discardTemp(t.path, t.slot);
 }
+
+void setTempSuffixSourceForTests(TempSuffixSource source) { gSuffixSource = source; }
 
 void checkOutputPaths(const std::vector<std::string>& outputs,
                       const std::vector<std::string>& inputs) {

@@ -226,6 +226,53 @@ TEST_F(Outputs, SignalWhileWritingLeavesNoTemporaryAndNoPartialOutput) {
     }
 }
 
+// Item: outputs were written to the predictable NAME.tmp.PID, opened with fopen("wb"), which
+// follows a symlink: `ln -s victim.txt out.png.tmp.$$; exec octrace render ... --out out.png`
+// truncated victim.txt to 0 bytes (checkWritable, before any work), filled it with the PNG and
+// renamed the link onto out.png, exit 0. Here the shell that becomes octrace (same pid) plants
+// such a link at every output's old temporary name, for render, rays, trace and certify --json;
+// one of render's links dangles (fopen would have created its target).
+TEST_F(Outputs, SymlinkAtTheOldTemporaryNameLeavesItsTargetAlone) {
+    put("victim.txt", kKeep);
+    struct Case {
+        std::vector<std::string> args, outputs;
+    };
+    const std::vector<Case> cases = {
+        {plus(render(kCube), {"--out", path("out.png"), "--depth", path("d.npy")}),
+         {"out.png", "d.npy"}},
+        {{"rays", kCube, "--count", "200", "--size", "16x16", "--out", path("R.npy"), "--triangles",
+          path("T.npy")},
+         {"R.npy", "R.json", "T.npy"}},
+        {{"trace", kCube, "--rays", path("R.npy"), "--out", path("H"), "--backend", "cpu",
+          "--accel", "linear", "--max-depth", "5"},
+         {"H.t.npy", "H.prim.npy"}},
+        {{"certify", kCube, "--rays", path("R.npy"), "--hits", path("H"), "--json", path("J.json")},
+         {"J.json"}}};
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.args[0]);
+        RunOptions opt;
+        for (const std::string& out : c.outputs) {
+            const std::string target = out == "d.npy" ? "made.txt" : "victim.txt";
+            opt.shellBefore += "ln -s " + octtest::quote(path(target)) + " " +
+                               octtest::quote(path(out)) + ".tmp.$$\n";
+        }
+        RunResult r = run(c.args, opt);
+        EXPECT_EQ(r.status, 0) << show(r);
+        EXPECT_TRUE(readFile(path("victim.txt")) == kKeep) << "the link's target was written";
+        EXPECT_FALSE(fs::exists(path("made.txt"))) << "the dangling link's target was created";
+        for (const std::string& out : c.outputs) {
+            EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(path(out)))) << out;
+            EXPECT_GT(fs::file_size(path(out)), 0u) << out;
+        }
+        // The planted links are not octrace's: left where they were, still links.
+        for (const std::string& name : listing())
+            if (name.find(".tmp.") != std::string::npos) {
+                EXPECT_TRUE(fs::is_symlink(work_ / name)) << name;
+                fs::remove(work_ / name);
+            }
+    }
+}
+
 // A write that fails mid-file (here RLIMIT_FSIZE: the write returns EFBIG exactly as a full
 // disk returns ENOSPC) is a one-line error; no temporary stays, existing outputs are kept.
 TEST_F(Outputs, WriteFailingMidFileIsAnErrorThatKeepsEveryFile) {
