@@ -74,6 +74,7 @@ void runCertify(const CertifyCliOptions& o) {
     checkOutputPaths(outputs, inputs);
     for (const std::string& p : outputs)
         if (!p.empty() && p != "-") checkWritable(p);
+    const std::vector<OutputLock> locks = lockOutputs(outputs);  // until the outputs are in place
     setCpuThreadsFromOption(o.threads);
 
     // Where the time goes, on every run (the phases line): the certify run is benchmarked

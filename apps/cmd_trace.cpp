@@ -2,6 +2,8 @@
 // Input  R.npy: float32 (N, 8) = ox oy oz dx dy dz tmin tmax (see docs/TRACE_FORMAT.md).
 // Output PREFIX.t.npy float32 (N,), +inf on a miss; PREFIX.prim.npy int32 (N,), -1 on a miss;
 //        PREFIX.run.json, the record that the two are one run's pair (validation/rays/hit_files.h).
+// While it runs it holds PREFIX.lock (core/io/output_file.h, OutputLock): a second run into the
+// same prefix is refused instead of mixing its pair with this one's.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -29,6 +31,7 @@ void runTrace(const TraceOptions& o) {
     const std::string runOut = hitRunPath(o.out);
     checkOutputPaths({tOut, primOut, runOut}, {o.scene.path, o.rays});
     checkWritable(tOut);
+    const OutputLock lock(o.out);  // until the three files are in place
     setCpuThreadsFromOption(o.trace.threads);
     // Every buffer below is filled before it is read, so none is zeroed: the rays straight from
     // the file, the hits straight into the output files' data sections.

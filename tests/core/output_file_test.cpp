@@ -152,5 +152,61 @@ TEST_F(OutputFiles, NoFreeTemporaryNameIsAnErrorThatTouchesNothing) {
     EXPECT_EQ(listing(), (std::set<std::string>{"out.png", "out.png.tmp.taken"}));
 }
 
+// OutputLock: while one is held on a name a second is refused (flock conflicts between two
+// opens of the file, in one process as between two); the lock file octrace made is removed
+// when the lock ends, and the name can be locked again.
+TEST_F(OutputFiles, LockOnANameIsHeldUntilItEnds) {
+    {
+        const OutputLock first(path("H"));
+        EXPECT_EQ(listing(), std::set<std::string>{"H.lock"});
+        try {
+            const OutputLock second(path("H"));
+            ADD_FAILURE() << "locked twice";
+        } catch (const IoError& e) {
+            EXPECT_NE(
+                std::string(e.what()).find("another octrace run is writing '" + path("H") + "'"),
+                std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_EQ(listing(), std::set<std::string>{});
+    const OutputLock again(path("H"));
+}
+
+// A file at NAME.lock that octrace did not make is locked and left as it was; one that holds
+// the text octrace writes into its own (a killed run's) is removed; a symlink there is refused
+// and its target left alone.
+TEST_F(OutputFiles, LockFileThatIsNotOctracesIsLeftAlone) {
+    put("H.lock", kNotOurs);
+    { const OutputLock lock(path("H")); }
+    EXPECT_EQ(read("H.lock"), kNotOurs);
+
+    const std::string text = [&] {
+        const OutputLock made(path("L"));
+        return read("L.lock");
+    }();
+    put("M.lock", text);
+    { const OutputLock stale(path("M")); }
+    EXPECT_FALSE(fs::exists(path("M.lock"))) << "a killed run's lock file stays";
+
+    put("victim.txt", kNotOurs);
+    fs::create_symlink(path("victim.txt"), path("S.lock"));
+    EXPECT_THROW(OutputLock(path("S")), IoError);
+    EXPECT_EQ(read("victim.txt"), kNotOurs);
+    EXPECT_TRUE(fs::is_symlink(path("S.lock")));
+}
+
+// lockOutputs: one lock per output; an output that is another's lock file is refused.
+TEST_F(OutputFiles, LockOutputsLocksEachOutput) {
+    {
+        const std::vector<OutputLock> locks = lockOutputs({path("a.png"), "", "-", path("b.npy")});
+        EXPECT_EQ(locks.size(), 2u);
+        EXPECT_THROW(OutputLock(path("b.npy")), IoError);
+    }
+    EXPECT_EQ(listing(), std::set<std::string>{});
+    EXPECT_THROW(lockOutputs({path("x"), path("x.lock")}), IoError);
+    EXPECT_EQ(listing(), std::set<std::string>{});
+}
+
 }  // namespace
 }  // namespace oct
