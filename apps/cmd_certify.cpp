@@ -63,8 +63,10 @@ void runCertify(const CertifyCliOptions& o) {
         for (const std::string& p : {verdictClassPath(o.verdicts), verdictReasonsPath(o.verdicts),
                                      verdictLeakPath(o.verdicts)})
             outputs.push_back(p);
-    std::vector<std::string> inputs = {o.scene, o.rays, haveManifest ? manifestPath : "",
-                                       hitTPath(o.hits), o.noPrim ? "" : hitPrimPath(o.hits)};
+    const std::string primIn = o.noPrim ? "" : hitPrimPath(o.hits);
+    const std::string recordIn = o.noPrim ? "" : hitRunPath(o.hits);  // trace's, when there
+    std::vector<std::string> inputs = {o.scene, o.rays, haveManifest ? manifestPath : ""};
+    for (const std::string& p : {hitTPath(o.hits), primIn, recordIn}) inputs.push_back(p);
     if (!o.baseline.empty())
         for (const std::string& p : {verdictClassPath(o.baseline), verdictReasonsPath(o.baseline),
                                      verdictLeakPath(o.baseline)})
@@ -72,6 +74,7 @@ void runCertify(const CertifyCliOptions& o) {
     checkOutputPaths(outputs, inputs);
     for (const std::string& p : outputs)
         if (!p.empty() && p != "-") checkWritable(p);
+    const std::vector<OutputLock> locks = lockOutputs(outputs);  // until the outputs are in place
     setCpuThreadsFromOption(o.threads);
 
     // Where the time goes, on every run (the phases line): the certify run is benchmarked

@@ -70,6 +70,7 @@ void runExplain(const ExplainOptions& o) {
     checkOutputPaths({o.json == "-" ? "" : o.json, o.html}, {o.scene.path});
     for (const std::string* p : {&o.json, &o.html})
         if (!p->empty() && *p != "-") checkWritable(*p);
+    const std::vector<OutputLock> locks = lockOutputs({o.json, o.html});
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     BuiltScene bs = buildScene(scene, layout, o.scene.layoutOptions());

@@ -79,6 +79,7 @@ void runRays(const RaysOptions& o) {
     checkOutputPaths({o.out, manifestPath, o.triangles}, {o.scene});
     for (const std::string& p : {o.out, manifestPath, o.triangles})
         if (!p.empty()) checkWritable(p);
+    const std::vector<OutputLock> locks = lockOutputs({o.out, manifestPath, o.triangles});
 
     LoadOptions lo;
     lo.radius = o.radius;

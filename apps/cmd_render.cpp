@@ -54,13 +54,14 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
 }
 
 // Before any heavy work: no output may name the scene or another output, and every output
-// folder must take a new file.
-void checkOutputs(const RenderOptions& o) {
+// folder must take a new file. The outputs stay locked (NAME.lock) while the locks live.
+[[nodiscard]] std::vector<OutputLock> checkOutputs(const RenderOptions& o) {
     checkOutputPaths({o.out, o.depthOut, o.primOut, o.costOut, o.heatmapOut, o.overlayOut},
                      {o.scene.path});
     for (const std::string* p :
          {&o.out, &o.depthOut, &o.primOut, &o.costOut, &o.heatmapOut, &o.overlayOut})
         if (!p->empty()) checkWritable(*p);
+    return lockOutputs({o.out, o.depthOut, o.primOut, o.costOut, o.heatmapOut, o.overlayOut});
 }
 
 // The octree's shape for the legends (or what exhaustive tracing is).
@@ -124,7 +125,7 @@ void runRender(const RenderOptions& o) {
     std::string note;
     const BackendDesc& backend = parseOneBackend(o.trace.backend, "render", note);
     checkTeachOptions(o, backend);
-    checkOutputs(o);
+    const std::vector<OutputLock> locks = checkOutputs(o);
     setCpuThreadsFromOption(o.trace.threads);
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());

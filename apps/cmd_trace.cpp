@@ -1,6 +1,9 @@
 // octrace trace: closest hits for a user's own ray set, the certification entry point.
 // Input  R.npy: float32 (N, 8) = ox oy oz dx dy dz tmin tmax (see docs/TRACE_FORMAT.md).
-// Output PREFIX.t.npy float32 (N,), +inf on a miss; PREFIX.prim.npy int32 (N,), -1 on a miss.
+// Output PREFIX.t.npy float32 (N,), +inf on a miss; PREFIX.prim.npy int32 (N,), -1 on a miss;
+//        PREFIX.run.json, the record that the two are one run's pair (validation/rays/hit_files.h).
+// While it runs it holds PREFIX.lock (core/io/output_file.h, OutputLock): a second run into the
+// same prefix is refused instead of mixing its pair with this one's.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -9,6 +12,7 @@
 #include "core/io/npy.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "validation/rays/hit_files.h"
 
 namespace oct {
 namespace {
@@ -23,9 +27,11 @@ void runTrace(const TraceOptions& o) {
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "trace");
     std::string note;
     const BackendDesc& backend = parseOneBackend(o.trace.backend, "trace", note);
-    const std::string tOut = o.out + ".t.npy", primOut = o.out + ".prim.npy";
-    checkOutputPaths({tOut, primOut}, {o.scene.path, o.rays});
+    const std::string tOut = hitTPath(o.out), primOut = hitPrimPath(o.out);
+    const std::string runOut = hitRunPath(o.out);
+    checkOutputPaths({tOut, primOut, runOut}, {o.scene.path, o.rays});
     checkWritable(tOut);
+    const OutputLock lock(o.out);  // until the three files are in place
     setCpuThreadsFromOption(o.trace.threads);
     // Every buffer below is filled before it is read, so none is zeroed: the rays straight from
     // the file, the hits straight into the output files' data sections.
@@ -51,9 +57,11 @@ void runTrace(const TraceOptions& o) {
     int32_t* prim = static_cast<int32_t*>(primFile.data());
     double seconds = traceWith(backend, bs, {rays.get(), t, prim, n});
     t0 = Clock::now();
-    OutputSet out;  // both files or neither
+    OutputSet out;  // the three files or none
     out.stage(tOut, tFile.bytes(), tFile.size());
     out.stage(primOut, primFile.bytes(), primFile.size());
+    const std::string record = hitRunRecord(o.out, t, prim, n);
+    out.stage(runOut, record.data(), record.size());
     out.commit();
     const double writeSeconds = since(t0);
     if (!note.empty()) std::printf("%s\n", note.c_str());
@@ -68,7 +76,7 @@ void runTrace(const TraceOptions& o) {
         "phases  read rays %.3f s, load scene %.3f s, octree %.3f s, layout %.3f s, trace %.3f "
         "s, write %.3f s\n",
         readSeconds, loadSeconds, bs.treeSeconds, bs.convertSeconds, seconds, writeSeconds);
-    std::printf("wrote   %s.t.npy %s.prim.npy\n", o.out.c_str(), o.out.c_str());
+    std::printf("wrote   %s %s %s\n", tOut.c_str(), primOut.c_str(), runOut.c_str());
 }
 
 }  // namespace
@@ -82,7 +90,9 @@ void registerTrace(CLI::App& app) {
         "Backend: " + backendNames() + ", or auto (cuda when a device answers, else cpu)");
     cmd->add_option("--rays", o->rays, "float32 (N, 8) .npy: ox oy oz dx dy dz tmin tmax")
         ->required();
-    cmd->add_option("--out", o->out, "Output prefix: PREFIX.t.npy and PREFIX.prim.npy")->required();
+    cmd->add_option("--out", o->out,
+                    "Output prefix: PREFIX.t.npy, PREFIX.prim.npy and PREFIX.run.json")
+        ->required();
     cmd->callback([o] { runTrace(*o); });
 }
 

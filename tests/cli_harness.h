@@ -105,6 +105,11 @@ struct RunOptions {
     uint64_t fileSizeLimit = 0;
     // > 0: the process runs under RLIMIT_AS of this many bytes (allocations past it fail).
     uint64_t addressSpaceLimit = 0;
+    // Not empty: run by /bin/sh just before octrace, which then replaces the shell (exec), so
+    // octrace has the shell's pid: `$$` in these commands is octrace's pid (a test plants a file
+    // at a name octrace would derive from its pid). A failing command ends the run
+    // before octrace starts (sh -e: its exit status, not 0).
+    std::string shellBefore;
 };
 
 // Runs octrace with `args`; stdout and stderr go to files in `captureDir` (created if needed).
@@ -116,6 +121,9 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
     const std::string outPath = (captureDir / ("stdout." + tag)).string();
     const std::string errPath = (captureDir / ("stderr." + tag)).string();
     std::vector<std::string> argv = {octraceBinary()};
+    if (!opt.shellBefore.empty())
+        argv = {"/bin/sh", "-c", "set -e\n" + opt.shellBefore + "\nexec \"$0\" \"$@\"",
+                octraceBinary()};
     argv.insert(argv.end(), args.begin(), args.end());
     std::vector<char*> cargv;
     for (std::string& a : argv) cargv.push_back(a.data());
@@ -165,8 +173,7 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
     RunResult r;
     pid_t pid = 0;
     const auto start = std::chrono::steady_clock::now();
-    const int rc =
-        posix_spawn(&pid, octraceBinary().c_str(), &actions, &attr, cargv.data(), environ);
+    const int rc = posix_spawn(&pid, argv[0].c_str(), &actions, &attr, cargv.data(), environ);
     if (opt.fileSizeLimit > 0) {
         setrlimit(RLIMIT_FSIZE, &oldLimit);
         sigaction(SIGXFSZ, &oldXfsz, nullptr);

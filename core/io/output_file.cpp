@@ -1,16 +1,22 @@
 #include "core/io/output_file.h"
 
+#include <fcntl.h>
 #include <signal.h>
 #include <stb_image_write.h>
+#include <sys/file.h>
+#include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <random>
+#include <utility>
 
 namespace oct {
 
@@ -20,6 +26,7 @@ const char* fileKind(mode_t m) {
     if (S_ISSOCK(m)) return "a socket";
     if (S_ISCHR(m)) return "a character device";
     if (S_ISBLK(m)) return "a block device";
+    if (S_ISLNK(m)) return "a symbolic link";
     return "not a regular file";
 }
 
@@ -106,23 +113,10 @@ void held(F&& f) {
     leave();
 }
 
-int registerTemp(const std::string& tmp) {
-    installHandlersOnce();
-    if (tmp.size() >= kMaxTempPath)
-        throw IoError("cannot write '" + tmp + "': the path is longer than " +
-                      std::to_string(kMaxTempPath - 1) + " bytes");
-    int slot = -1;
-    held([&] {
-        for (int i = 0; i < kMaxTemps && slot < 0; ++i)
-            if (!gTempUsed[i].load()) slot = i;
-        if (slot < 0) return;
-        std::memcpy(gTempPath[slot], tmp.c_str(), tmp.size() + 1);
-        gTempUsed[slot].store(1);
-    });
-    if (slot < 0)
-        throw IoError("cannot write '" + tmp + "': more than " + std::to_string(kMaxTemps) +
-                      " outputs are being written at once");
-    return slot;
+int freeSlotHeld() {  // inside a held section; -1 when the table is full
+    for (int i = 0; i < kMaxTemps; ++i)
+        if (!gTempUsed[i].load()) return i;
+    return -1;
 }
 
 void releaseTempHeld(int slot) {  // inside a held section
@@ -137,11 +131,103 @@ void discardTemp(const std::string& tmp, int slot) {
     });
 }
 
-// ---- Writing ------------------------------------------------------------------------------------
+// ---- Temporary names ----------------------------------------------------------------------------
+//
+// A temporary is NAME.tmp.XXXXXXXX beside its output (the same folder: the rename into place
+// must not cross file systems), XXXXXXXX eight characters of [0-9A-Za-z] from getrandom (47
+// bits), created with O_CREAT|O_EXCL|O_NOFOLLOW: whatever is at that name already (a file, a
+// symlink, a dangling symlink someone planted) is never opened, followed or truncated; the
+// next name is drawn instead. The name used to be NAME.tmp.PID opened with fopen("wb"): a
+// symlink planted there had its target truncated and overwritten.
 
-std::string tempNameFor(const std::string& path) {
-    return path + ".tmp." + std::to_string(::getpid());
+constexpr int kTempNameAttempts = 64;
+constexpr char kSuffixAlphabet[] = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz";
+constexpr size_t kSuffixLength = 8;
+
+TempSuffixSource gSuffixSource = nullptr;  // tests only (setTempSuffixSourceForTests)
+
+std::string randomSuffix() {
+    if (gSuffixSource) return gSuffixSource();
+    unsigned char bytes[kSuffixLength];
+    if (::getrandom(bytes, sizeof bytes, 0) != ssize_t(sizeof bytes)) {
+        std::random_device device;  // getrandom missing (a kernel before 3.17): the C++ source
+        for (unsigned char& b : bytes) b = static_cast<unsigned char>(device());
+    }
+    std::string s;
+    for (unsigned char b : bytes) s += kSuffixAlphabet[b % (sizeof kSuffixAlphabet - 1)];
+    return s;
 }
+
+// An open temporary: its name, its entry in the signal handler's table, and its descriptor
+// (closed by the destructor unless writeTemp closed it, checking the result).
+struct Temp {
+    std::string path;
+    int slot = -1;
+    int fd = -1;
+    Temp() = default;
+    Temp(const Temp&) = delete;
+    Temp& operator=(const Temp&) = delete;
+    ~Temp() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+// Creates a new, empty temporary for `target` (mode 0666 less the umask, as fopen gives). The
+// file is created and entered in the handler's table in one held section: the table never
+// names a file this process did not create (a signal would unlink it), and no file this
+// process created is missing from it.
+void createTemp(const std::string& target, Temp& t) {
+    installHandlersOnce();
+    for (int attempt = 0; attempt < kTempNameAttempts; ++attempt) {
+        const std::string tmp = target + ".tmp." + randomSuffix();
+        if (tmp.size() >= kMaxTempPath)
+            throw IoError("cannot write '" + target + "': the path is longer than " +
+                          std::to_string(kMaxTempPath - 1 - kSuffixLength - 5) + " bytes");
+        int slot = -1, fd = -1, err = 0;
+        held([&] {
+            slot = freeSlotHeld();
+            if (slot < 0) return;
+            fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+            err = errno;
+            if (fd < 0) return;
+            std::memcpy(gTempPath[slot], tmp.c_str(), tmp.size() + 1);
+            gTempUsed[slot].store(1);
+        });
+        if (slot < 0)
+            throw IoError("cannot write '" + target + "': more than " + std::to_string(kMaxTemps) +
+                          " outputs are being written at once");
+        if (fd >= 0) {
+            t.path = tmp;
+            t.slot = slot;
+            t.fd = fd;
+            return;
+        }
+        if (err != EEXIST)
+            throw IoError("cannot write '" + target + "': " + std::strerror(err) +
+                          " (check that the folder exists and is writable)");
+    }
+    throw IoError("cannot write '" + target + "': " + std::to_string(kTempNameAttempts) +
+                  " temporary names beside it (" + target +
+                  ".tmp.*) were all taken; remove the stale ones");
+}
+
+// write(2) until every byte is written; false with err set on a failure.
+bool writeAll(int fd, const void* data, size_t bytes, int& err) {
+    const char* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::write(fd, p, std::min(bytes, size_t(1) << 30));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            err = n < 0 ? errno : EIO;
+            return false;
+        }
+        p += n;
+        bytes -= size_t(n);
+    }
+    return true;
+}
+
+// ---- Writing ------------------------------------------------------------------------------------
 
 // An output is replaced by renaming a complete file onto it: onto a device node (as root) that
 // would replace the node itself (/dev/null), onto a directory it fails late. Refused up front.
@@ -154,30 +240,19 @@ void refuseSpecialTarget(const std::string& path) {
                   "name a regular file");
 }
 
-// Writes bytes to tmp (registered as `slot`); on failure removes it and throws naming the
-// target path.
-void writeTemp(const std::string& path, const std::string& tmp, int slot, const void* data,
-               size_t bytes) {
-    std::FILE* f = std::fopen(tmp.c_str(), "wb");
-    if (!f) {
-        int err = errno;
-        discardTemp(tmp, slot);
-        throw IoError("cannot write '" + path + "': " + std::strerror(err) +
-                      " (check that the folder exists and is writable)");
-    }
-    errno = 0;
-    bool ok = bytes == 0 || std::fwrite(data, 1, bytes, f) == bytes;
-    int err = errno;
-    if (std::fflush(f) != 0 && ok) {
-        ok = false;
-        err = errno;
-    }
-    if (std::fclose(f) != 0 && ok) {
+// Writes bytes to the open temporary t and closes it; on failure removes it and throws naming
+// the target path.
+void writeTemp(const std::string& path, Temp& t, const void* data, size_t bytes) {
+    int err = 0;
+    bool ok = writeAll(t.fd, data, bytes, err);
+    const int fd = t.fd;
+    t.fd = -1;
+    if (::close(fd) != 0 && ok) {  // NFS reports a failed write at close
         ok = false;
         err = errno;
     }
     if (!ok) {
-        discardTemp(tmp, slot);
+        discardTemp(t.path, t.slot);
         throw IoError("cannot write '" + path + "': " + std::strerror(err ? err : EIO) +
                       " (nothing was written; free space or choose another folder)");
     }
@@ -222,7 +297,168 @@ bool sameFile(const FileId& a, const FileId& b) {
     return a.exists ? a.dev == b.dev && a.ino == b.ino : a.path == b.path;
 }
 
+// ---- Locks on a run's outputs -------------------------------------------------------------------
+//
+// A run holds flock(LOCK_EX) on NAME.lock, a regular file beside NAME, from before its work
+// until its outputs are in place; a second run finding it held is refused at once (LOCK_NB).
+// Why a lock file per name rather than a lock on the output folder: runs into other prefixes of
+// one folder (parallel jobs into one results folder) must not refuse each other. Why flock: the
+// kernel drops it when the holder ends, even by SIGKILL, so a lock file left behind locks
+// nothing and the next run takes it over.
+//
+// Removing the file at the end has a known race: run B opens NAME.lock, run A unlinks it and
+// ends, B's flock succeeds on the unlinked file while run C creates a new NAME.lock and locks
+// that: two holders. So the holder unlinks the file while still holding the lock, and a run
+// that got the lock checks that NAME.lock still names the file it locked (fstat of its
+// descriptor against lstat of the name); if not it closes and tries again. Whoever holds the
+// lock on the file that NAME.lock names is then the only holder.
+//
+// Only a file octrace created is removed: a file of that name that was there before (a user's,
+// or a lock a killed run left) is locked and left in place, unless it holds exactly kLockText,
+// which octrace writes into the lock files it creates (a lock a killed run left: removed).
+// Removed files are entered in the signal handler's table like the temporaries, so an
+// interrupted run leaves no lock file either.
+
+constexpr char kLockText[] = "octrace run lock (flock): removed when the run ends\n";
+constexpr int kLockAttempts = 16;
+
+class UniqueFd {
+public:
+    explicit UniqueFd(int fd) : fd_(fd) {}
+    ~UniqueFd() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    UniqueFd(const UniqueFd&) = delete;
+    UniqueFd& operator=(const UniqueFd&) = delete;
+    int get() const { return fd_; }
+    int release() { return std::exchange(fd_, -1); }
+    void reset(int fd) {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = fd;
+    }
+
+private:
+    int fd_;
+};
+
+bool sameInode(const struct stat& a, const struct stat& b) {
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
+bool holdsLockText(int fd) {
+    char buf[sizeof kLockText];
+    const ssize_t n = ::pread(fd, buf, sizeof buf, 0);
+    return n == ssize_t(sizeof kLockText - 1) && std::memcmp(buf, kLockText, size_t(n)) == 0;
+}
+
+void refuseSpecialLock(const std::string& lock) {
+    struct stat st;
+    if (::lstat(lock.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
+    throw IoError("cannot lock '" + lock + "': it is " + fileKind(st.st_mode) +
+                  "; octrace holds a regular file of that name while it writes the outputs "
+                  "beside it: remove it, or write elsewhere");
+}
+
 }  // namespace
+
+OutputLock::OutputLock(const std::string& name) : path_(name + ".lock") {
+    installHandlersOnce();
+    if (path_.size() >= kMaxTempPath)
+        throw IoError("cannot lock '" + path_ + "': the path is longer than " +
+                      std::to_string(kMaxTempPath - 1) + " bytes");
+    for (int attempt = 0; attempt < kLockAttempts; ++attempt) {
+        refuseSpecialLock(path_);
+        bool locked = false;
+        held([&] { locked = lockOnceHeld(name); });
+        if (locked) return;
+    }
+    throw IoError("cannot lock '" + path_ + "': it was replaced " + std::to_string(kLockAttempts) +
+                  " times while octrace tried to lock it; is another program removing it?");
+}
+
+// One try, in a held section: no signal between creating the file and entering it in the
+// handler's table. False: the file was removed or replaced between open and flock (its holder
+// ended), try again.
+bool OutputLock::lockOnceHeld(const std::string& name) {
+    const int slot = freeSlotHeld();
+    if (slot < 0)
+        throw IoError("cannot lock '" + path_ + "': more than " + std::to_string(kMaxTemps) +
+                      " outputs are being written at once");
+    bool created = true;
+    UniqueFd fd(::open(path_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666));
+    if (fd.get() < 0 && errno == EEXIST) {
+        // Opened to lock, never written (it may be anyone's file); for writing where allowed:
+        // NFS emulates flock with byte-range locks, whose exclusive kind needs a descriptor
+        // open for writing.
+        created = false;
+        const int flags = O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC;
+        fd.reset(::open(path_.c_str(), O_RDWR | flags));
+        if (fd.get() < 0 && (errno == EACCES || errno == EROFS))
+            fd.reset(::open(path_.c_str(), O_RDONLY | flags));
+        if (fd.get() < 0 && errno == ENOENT) return false;
+    }
+    if (fd.get() < 0)
+        throw IoError("cannot lock '" + path_ + "': " + std::strerror(errno) +
+                      " (check that the folder exists and is writable)");
+    struct stat st;
+    if (::fstat(fd.get(), &st) != 0 || !S_ISREG(st.st_mode)) return false;  // replaced since
+    if (created) {
+        // Best effort: a lock file without the text is merely left behind at the end.
+        [[maybe_unused]] const ssize_t n = ::write(fd.get(), kLockText, sizeof kLockText - 1);
+    }
+    if (::flock(fd.get(), LOCK_EX | LOCK_NB) != 0) {
+        if (errno == EWOULDBLOCK)
+            throw IoError("another octrace run is writing '" + name + "' (it holds the lock '" +
+                          path_ + "'); wait for it to end, or write elsewhere");
+        throw IoError("cannot lock '" + path_ + "': " + std::strerror(errno));
+    }
+    struct stat now;
+    if (::lstat(path_.c_str(), &now) != 0 || !sameInode(now, st)) return false;
+    if (created || holdsLockText(fd.get())) {
+        std::memcpy(gTempPath[slot], path_.c_str(), path_.size() + 1);
+        gTempUsed[slot].store(1);
+        slot_ = slot;
+    }
+    fd_ = fd.release();
+    return true;
+}
+
+OutputLock::OutputLock(OutputLock&& o) noexcept
+    : path_(std::move(o.path_)), fd_(std::exchange(o.fd_, -1)), slot_(std::exchange(o.slot_, -1)) {}
+
+OutputLock::~OutputLock() {
+    if (fd_ < 0) return;
+    if (slot_ >= 0)
+        held([&] {
+            // Unlinked while the lock is still held (see above), and only while the name still
+            // is this file (an output renamed onto it is not removed).
+            struct stat mine, named;
+            if (::fstat(fd_, &mine) == 0 && ::lstat(path_.c_str(), &named) == 0 &&
+                sameInode(mine, named))
+                ::unlink(path_.c_str());
+            releaseTempHeld(slot_);
+        });
+    ::close(fd_);
+}
+
+std::vector<OutputLock> lockOutputs(const std::vector<std::string>& outputs) {
+    std::vector<std::string> names;
+    for (const std::string& o : outputs)
+        if (!o.empty() && o != "-") names.push_back(o);
+    for (const std::string& a : names)
+        for (const std::string& b : names)
+            if (sameFile(identify(a + ".lock"), identify(b)))
+                throw IoError("output '" + b + "' is the lock file of output '" + a +
+                              "' (octrace holds NAME.lock while it writes NAME); give it another "
+                              "name");
+    // In one order, so two runs with the same outputs contend for the same lock first.
+    std::sort(names.begin(), names.end());
+    names.erase(std::unique(names.begin(), names.end()), names.end());
+    std::vector<OutputLock> locks;
+    locks.reserve(names.size());
+    for (const std::string& n : names) locks.emplace_back(n);
+    return locks;
+}
 
 void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
     OutputSet out;
@@ -241,10 +477,10 @@ void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
             throw IoError("outputs '" + s.path + "' and '" + path +
                           "' are the same file; give each output its own path");
     refuseSpecialTarget(path);
-    std::string tmp = tempNameFor(path);
-    int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, data, bytes);
-    staged_.push_back({path, tmp, slot});
+    Temp t;
+    createTemp(path, t);
+    writeTemp(path, t, data, bytes);
+    staged_.push_back({path, t.path, t.slot});
 }
 
 void OutputSet::commit() {
@@ -266,13 +502,16 @@ void OutputSet::commit() {
     });
 }
 
+// Creates a temporary as stage() would, and removes it: nothing is created or truncated at a
+// name anyone could guess.
 void checkWritable(const std::string& path) {
     refuseSpecialTarget(path);
-    std::string tmp = tempNameFor(path);
-    int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, "", 0);
-    discardTemp(tmp, slot);
+    Temp t;
+    createTemp(path, t);
+    discardTemp(t.path, t.slot);
 }
+
+void setTempSuffixSourceForTests(TempSuffixSource source) { gSuffixSource = source; }
 
 void checkOutputPaths(const std::vector<std::string>& outputs,
                       const std::vector<std::string>& inputs) {

@@ -2,14 +2,16 @@
 // when complete, so a failure never leaves a partial file and an existing file is replaced
 // only by a complete one (rename within one directory is atomic on POSIX).
 //
-// The temporary name is NAME.tmp.PID. While one exists it is registered in a fixed table that
+// The temporary is NAME.tmp.XXXXXXXX, eight random characters, created exclusively
+// (O_CREAT|O_EXCL|O_NOFOLLOW): a file or symlink anyone planted at a name octrace might use is
+// never opened, followed or truncated. While one exists it is registered in a fixed table that
 // the handler of SIGINT, SIGTERM and SIGHUP reads: the handler unlinks every registered
 // temporary (unlink is async-signal-safe) and re-raises the signal with its default action, so
 // an interrupted run leaves neither a temporary nor a partial output behind and still ends "by
 // the signal" for its parent. A signal arriving while OutputSet::commit() renames is held back
 // until the last rename is done, so a commit is all-or-none for these signals too. A signal
 // that was ignored when the first output was staged (nohup, a background job) stays ignored.
-// SIGKILL cannot be caught: it can leave NAME.tmp.PID behind (never a partial NAME).
+// SIGKILL cannot be caught: it can leave NAME.tmp.XXXXXXXX behind (never a partial NAME).
 #pragma once
 
 #include <sys/types.h>
@@ -53,13 +55,49 @@ private:
     std::vector<Staged> staged_;
 };
 
-// Fails early, before heavy work, when a file cannot be created in path's folder, or when path
-// exists and is not a regular file (a device, FIFO, socket or directory: renaming onto a device
-// node as root would replace /dev/null itself).
+// Fails early, before heavy work, when a file cannot be created in path's folder (it creates a
+// temporary as OutputSet::stage does and removes it), or when path exists and is not a regular
+// file (a device, FIFO, socket or directory: renaming onto a device node as root would replace
+// /dev/null itself).
 void checkWritable(const std::string& path);
 
+// An advisory lock (flock) on NAME.lock beside a run's outputs, held from before the work until
+// the outputs are in place, so that two octrace runs never write one set of outputs at once:
+// the second is refused at once (trace renames PREFIX.t.npy and PREFIX.prim.npy one after the
+// other; a run finishing between the two left a pair from two runs). The file is created if
+// absent (O_CREAT|O_NOFOLLOW, never written when it was there before) and removed at the end
+// when octrace made it; output_file.cpp says why that is safe. `name` is what the refusal says is
+// being written: trace's PREFIX, another command's output path. Throws IoError: "another
+// octrace run is writing 'NAME' (it holds the lock 'NAME.lock'); ...", or NAME.lock is not a
+// regular file (a symlink, a FIFO, ...), or cannot be created.
+class OutputLock {
+public:
+    explicit OutputLock(const std::string& name);
+    ~OutputLock();
+    OutputLock(OutputLock&& o) noexcept;
+    OutputLock(const OutputLock&) = delete;
+    OutputLock& operator=(const OutputLock&) = delete;
+    OutputLock& operator=(OutputLock&&) = delete;
+    const std::string& path() const { return path_; }
+
+private:
+    bool lockOnceHeld(const std::string& name);
+    std::string path_;
+    int fd_ = -1;
+    int slot_ = -1;  // >= 0: octrace's file, in the signal handler's table, removed at the end
+};
+
+// An OutputLock on each output ("" and "-" skipped), for the commands that write a set of
+// files: render, rays, certify, explain. Refuses an output that is another's lock file.
+std::vector<OutputLock> lockOutputs(const std::vector<std::string>& outputs);
+
+// Tests only: where the temporaries' random suffixes come from (nullptr: getrandom). A test
+// returns a name it has taken, to see that the file there is never opened.
+using TempSuffixSource = std::string (*)();
+void setTempSuffixSourceForTests(TempSuffixSource source);
+
 // What a path that is not a regular file is, for messages: "a directory", "a FIFO", "a socket",
-// "a character device", "a block device", else "not a regular file" (st_mode of stat/lstat).
+// "a character device", "a block device", "a symbolic link" (lstat), else "not a regular file".
 const char* fileKind(mode_t m);
 
 // Refuses, before any work, a command's outputs that would destroy a file or each other:

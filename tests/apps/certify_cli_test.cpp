@@ -222,6 +222,54 @@ TEST_F(CertifyCli, BadHitFilesAreOneLineErrors) {
     EXPECT_NE(r.out.find("distances only"), std::string::npos) << r.out;
 }
 
+// Item: trace renames PREFIX.t.npy and PREFIX.prim.npy one after the other; a second run
+// finishing between the two left t from one run and prim from the other, whole files of the
+// right length that certify judged as one tracer's answers. Forged here: two runs with the same
+// rays (the cube into H, the teapot into G), then one of G's files copied over H's. The record
+// trace writes beside the pair (H.run.json) vouches for H's files: one file it does not vouch
+// for is refused, naming both.
+TEST_F(CertifyCli, PairMixedFromTwoTraceRunsIsRefused) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    RunResult r = run("trace " + quote(kTeapot) + " --rays " + q("R.npy") + " --out " + q("G") +
+                      " --backend cpu --accel linear --max-depth 5");
+    ASSERT_EQ(r.status, 0) << show(r);
+    ASSERT_NE(readArray<int32_t>("G.prim.npy"), readArray<int32_t>("H.prim.npy"));
+    ASSERT_NE(readArray<float>("G.t.npy"), readArray<float>("H.t.npy"));
+    for (const char* name : {"H.t.npy", "H.prim.npy"})
+        fs::copy_file(path(name), path(std::string(name) + ".kept"));
+    for (const char* column : {"prim", "t"}) {
+        SCOPED_TRACE(column);
+        for (const char* name : {"H.t.npy", "H.prim.npy"})
+            fs::copy_file(path(std::string(name) + ".kept"), path(name),
+                          fs::copy_options::overwrite_existing);
+        fs::copy_file(path("G." + std::string(column) + ".npy"),
+                      path("H." + std::string(column) + ".npy"),
+                      fs::copy_options::overwrite_existing);
+        r = run(certify());
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_EQ(r.status, 2);
+        EXPECT_NE(r.err.find(path("H.t.npy")), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find(path("H.prim.npy")), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("one run"), std::string::npos) << r.err;
+        EXPECT_EQ(r.out, "");
+    }
+    // Both files replaced (another tracer wrote the pair over H): the record vouches for
+    // neither and says nothing about this pair; certify judges it (wrong answers for the cube).
+    for (const char* column : {"t", "prim"})
+        fs::copy_file(path("G." + std::string(column) + ".npy"),
+                      path("H." + std::string(column) + ".npy"),
+                      fs::copy_options::overwrite_existing);
+    r = run(certify());
+    EXPECT_TRUE(isOneLineVerdict(r, 1));
+    // A pair without the record (another tracer's files) is certified as before.
+    for (const char* name : {"H.t.npy", "H.prim.npy"})
+        fs::copy_file(path(std::string(name) + ".kept"), path(name),
+                      fs::copy_options::overwrite_existing);
+    fs::remove(path("H.run.json"));
+    r = run(certify());
+    EXPECT_EQ(r.status, 0) << show(r);
+}
+
 TEST_F(CertifyCli, AFaultyAnswerFailsNamingItsRow) {
     ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
     std::vector<float> t = readArray<float>("H.t.npy");

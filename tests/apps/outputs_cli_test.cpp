@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <sys/mount.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -213,8 +214,10 @@ TEST_F(Outputs, SignalWhileWritingLeavesNoTemporaryAndNoPartialOutput) {
         ASSERT_TRUE(sent) << "no temporary seen while it ran: " << show(r);
         EXPECT_EQ(r.signal, sig) << "ends by the signal, as its parent expects: " << show(r);
         const std::set<std::string> left = listing();
-        for (const std::string& name : left)
+        for (const std::string& name : left) {
             EXPECT_EQ(name.find(".tmp."), std::string::npos) << "left behind: " << name;
+            EXPECT_EQ(name.find(".lock"), std::string::npos) << "left behind: " << name;
+        }
         // All or none: either nothing was replaced, or every output is complete.
         if (readFile(path("out.png")) == kKeep) {
             EXPECT_EQ(left, std::set<std::string>{"out.png"});
@@ -224,6 +227,101 @@ TEST_F(Outputs, SignalWhileWritingLeavesNoTemporaryAndNoPartialOutput) {
         }
         for (const std::string& name : left) fs::remove(work_ / name);
     }
+}
+
+// Item: outputs were written to the predictable NAME.tmp.PID, opened with fopen("wb"), which
+// follows a symlink: `ln -s victim.txt out.png.tmp.$$; exec octrace render ... --out out.png`
+// truncated victim.txt to 0 bytes (checkWritable, before any work), filled it with the PNG and
+// renamed the link onto out.png, exit 0. Here the shell that becomes octrace (same pid) plants
+// such a link at every output's old temporary name, for render, rays, trace and certify --json;
+// one of render's links dangles (fopen would have created its target).
+TEST_F(Outputs, SymlinkAtTheOldTemporaryNameLeavesItsTargetAlone) {
+    put("victim.txt", kKeep);
+    struct Case {
+        std::vector<std::string> args, outputs;
+    };
+    const std::vector<Case> cases = {
+        {plus(render(kCube), {"--out", path("out.png"), "--depth", path("d.npy")}),
+         {"out.png", "d.npy"}},
+        {{"rays", kCube, "--count", "200", "--size", "16x16", "--out", path("R.npy"), "--triangles",
+          path("T.npy")},
+         {"R.npy", "R.json", "T.npy"}},
+        {{"trace", kCube, "--rays", path("R.npy"), "--out", path("H"), "--backend", "cpu",
+          "--accel", "linear", "--max-depth", "5"},
+         {"H.t.npy", "H.prim.npy"}},
+        {{"certify", kCube, "--rays", path("R.npy"), "--hits", path("H"), "--json", path("J.json")},
+         {"J.json"}}};
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.args[0]);
+        RunOptions opt;
+        for (const std::string& out : c.outputs) {
+            const std::string target = out == "d.npy" ? "made.txt" : "victim.txt";
+            opt.shellBefore += "ln -s " + octtest::quote(path(target)) + " " +
+                               octtest::quote(path(out)) + ".tmp.$$\n";
+        }
+        RunResult r = run(c.args, opt);
+        EXPECT_EQ(r.status, 0) << show(r);
+        EXPECT_TRUE(readFile(path("victim.txt")) == kKeep) << "the link's target was written";
+        EXPECT_FALSE(fs::exists(path("made.txt"))) << "the dangling link's target was created";
+        for (const std::string& out : c.outputs) {
+            EXPECT_TRUE(fs::is_regular_file(fs::symlink_status(path(out)))) << out;
+            EXPECT_GT(fs::file_size(path(out)), 0u) << out;
+        }
+        // The planted links are not octrace's: left where they were, still links.
+        for (const std::string& name : listing())
+            if (name.find(".tmp.") != std::string::npos) {
+                EXPECT_TRUE(fs::is_symlink(work_ / name)) << name;
+                fs::remove(work_ / name);
+            }
+    }
+}
+
+// Item: two runs into one prefix mixed their outputs (trace renames PREFIX.t.npy and
+// PREFIX.prim.npy one after the other). A run holds an flock on PREFIX.lock while it works: a
+// second run into the same prefix is refused at once, exit status 2, writing nothing. The test
+// holds the lock itself, as another run would.
+TEST_F(Outputs, TraceIntoAPrefixAnotherRunIsWritingIsRefused) {
+    const std::vector<float> ray = {0.5f, 0.5f, 5, 0, 0, -1, 0, INFINITY};
+    writeNpy(path("R.npy"), "<f4", {1, 8}, ray.data(), 4);
+    const std::vector<std::string> trace = {"trace",  kCube,         "--backend", "cpu",
+                                            "--rays", path("R.npy"), "--out",     path("H")};
+    {
+        const int fd = ::open(path("H.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        ASSERT_GE(fd, 0);
+        ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+        RunResult r = run(trace);
+        ::close(fd);
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_EQ(r.status, 2);
+        EXPECT_NE(r.err.find("another octrace run is writing '" + path("H") + "'"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_EQ(listing(), (std::set<std::string>{"R.npy", "H.lock"}));
+    }
+    // Released, the run goes ahead; the lock file it found is not its own and stays.
+    RunResult r = run(trace);
+    EXPECT_EQ(r.status, 0) << show(r);
+    EXPECT_EQ(listing(),
+              (std::set<std::string>{"R.npy", "H.lock", "H.t.npy", "H.prim.npy", "H.run.json"}));
+    // A run that made its lock file removes it.
+    r = run(plus(std::vector<std::string>(trace.begin(), trace.end() - 1), {path("G")}));
+    EXPECT_EQ(r.status, 0) << show(r);
+    EXPECT_FALSE(fs::exists(path("G.lock")));
+}
+
+// The same for every output of a command that writes several (render, rays, certify, explain):
+// each output's NAME.lock.
+TEST_F(Outputs, RenderIntoAnOutputAnotherRunIsWritingIsRefused) {
+    const int fd = ::open(path("d.npy.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+    RunResult r = run(plus(render(kCube), {"--out", path("o.png"), "--depth", path("d.npy")}));
+    ::close(fd);
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("another octrace run is writing '" + path("d.npy") + "'"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(listing(), std::set<std::string>{"d.npy.lock"});
 }
 
 // A write that fails mid-file (here RLIMIT_FSIZE: the write returns EFBIG exactly as a full

@@ -1,8 +1,15 @@
 #include "validation/rays/hit_files.h"
 
-#include <cstring>
+#include <sys/random.h>
+#include <sys/stat.h>
 
+#include <cstring>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "core/io/input_file.h"
 #include "core/io/npy.h"
+#include "validation/rays/ray_sets.h"
 
 namespace oct {
 namespace {
@@ -25,7 +32,85 @@ NpyArray readColumn(const std::string& path, const char* descr, const char* what
     });
 }
 
+constexpr uint64_t kMaxRecordBytes = 64 * 1024;
+
+// 64 random bits, as 16 hex digits: tells one run from another in the record and the messages.
+std::string randomRunId() {
+    uint64_t v = 0;
+    if (::getrandom(&v, sizeof v, 0) != ssize_t(sizeof v)) {
+        std::random_device device;  // getrandom missing (a kernel before 3.17)
+        v = uint64_t(device()) << 32 | device();
+    }
+    return hex64(v);
+}
+
+std::string fileName(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+struct RunRecord {
+    std::string run, t, prim;  // the run id and the two data hashes
+};
+
+RunRecord readRunRecord(const std::string& path) {
+    const char* hint =
+        "written by octrace trace beside its pair; remove it if the pair is not "
+        "octrace's";
+    const std::string bytes = readSmallInput(path, "the hits record", kMaxRecordBytes, hint);
+    const nlohmann::json j = nlohmann::json::parse(bytes, nullptr, false);
+    auto text = [&](const nlohmann::json& o, const char* key) {
+        if (!o.is_object() || !o.contains(key) || !o[key].is_string())
+            throw IoError("hits record '" + path + "': no text '" + key + "' (" + hint + ")");
+        return o[key].get<std::string>();
+    };
+    if (j.is_discarded() || !j.is_object())
+        throw IoError("hits record '" + path + "' is not JSON (" + hint + ")");
+    if (text(j, "format") != "octrace-hits")
+        throw IoError("hits record '" + path + "': 'format' is not \"octrace-hits\" (" + hint +
+                      ")");
+    RunRecord r;
+    r.run = text(j, "octrace_run");
+    r.t = text(j.value("t", nlohmann::json()), "fnv1a64");
+    r.prim = text(j.value("prim", nlohmann::json()), "fnv1a64");
+    return r;
+}
+
+// The check readHitFiles makes with both arrays read (hit_files.h).
+void checkSameRun(const std::string& prefix, const NpyArray& t, const NpyArray& prim) {
+    const std::string recordPath = hitRunPath(prefix);
+    struct stat st;
+    if (::lstat(recordPath.c_str(), &st) != 0) return;  // not octrace trace's pair: no record
+    const RunRecord r = readRunRecord(recordPath);
+    const bool tOurs = hex64(fnv1a64(t.data.data(), t.data.size())) == r.t;
+    const bool primOurs = hex64(fnv1a64(prim.data.data(), prim.data.size())) == r.prim;
+    if (tOurs == primOurs) return;
+    const std::string vouched = tOurs ? hitTPath(prefix) : hitPrimPath(prefix);
+    const std::string other = tOurs ? hitPrimPath(prefix) : hitTPath(prefix);
+    throw IoError("'" + hitTPath(prefix) + "' and '" + hitPrimPath(prefix) +
+                  "' are not the pair one run wrote: '" + recordPath + "' (octrace trace run " +
+                  r.run + ") vouches for '" + vouched + "' but not for '" + other +
+                  "', which another run or program has written since; trace again into one "
+                  "prefix, or remove the record if another tracer wrote both files");
+}
+
 }  // namespace
+
+std::string hitRunPath(const std::string& prefix) { return prefix + ".run.json"; }
+
+std::string hitRunRecord(const std::string& prefix, const float* t, const int32_t* prim,
+                         uint64_t rows) {
+    const size_t bytes = size_t(rows) * 4;
+    const nlohmann::ordered_json j = {
+        {"format", "octrace-hits"},
+        {"version", 1},
+        {"octrace_run", randomRunId()},
+        {"rows", rows},
+        {"t", {{"file", fileName(hitTPath(prefix))}, {"fnv1a64", hex64(fnv1a64(t, bytes))}}},
+        {"prim",
+         {{"file", fileName(hitPrimPath(prefix))}, {"fnv1a64", hex64(fnv1a64(prim, bytes))}}}};
+    return j.dump(2) + "\n";
+}
 
 std::string hitTPath(const std::string& prefix) { return prefix + ".t.npy"; }
 std::string hitPrimPath(const std::string& prefix) { return prefix + ".prim.npy"; }
@@ -39,6 +124,7 @@ HitArrays readHitFiles(const std::string& prefix, uint64_t rays, const std::stri
     if (rays) std::memcpy(h.t.data(), t.data.data(), size_t(rays) * sizeof(float));
     if (primIds) {
         NpyArray p = readColumn(hitPrimPath(prefix), "<i4", "int32 primitive ids", rays, raysPath);
+        checkSameRun(prefix, t, p);
         h.prim.resize(rays);
         if (rays) std::memcpy(h.prim.data(), p.data.data(), size_t(rays) * sizeof(int32_t));
     }

@@ -21,12 +21,30 @@ struct HitArrays {
 
 std::string hitTPath(const std::string& prefix);     // PREFIX.t.npy
 std::string hitPrimPath(const std::string& prefix);  // PREFIX.prim.npy
+std::string hitRunPath(const std::string& prefix);   // PREFIX.run.json
+
+// The record `octrace trace` writes beside its pair, in the same set of outputs, so that certify
+// can tell a pair from two runs (one run's t, another's prim: whole files of the right length)
+// from a pair one run wrote:
+//   {"format": "octrace-hits", "version": 1, "octrace_run": "<16 hex digits, random>",
+//    "rows": N, "t": {"file": "PREFIX.t.npy", "fnv1a64": "<16 hex digits>"},
+//    "prim": {"file": "PREFIX.prim.npy", "fnv1a64": "<16 hex digits>"}}
+// fnv1a64 is the hash of each file's data section (the array's bytes after the .npy header).
+// A sidecar file rather than a key in the .npy headers: numpy refuses a header dict with any
+// key beyond descr, fortran_order and shape ("Header does not contain the correct keys").
+std::string hitRunRecord(const std::string& prefix, const float* t, const int32_t* prim,
+                         uint64_t rows);
 
 // Reads the answers for `rays` rays (`raysPath` names the ray file in messages); without
 // primIds only PREFIX.t.npy. Throws IoError with one line naming the file, what it holds
 // (dtype, shape) and what is expected, for a missing or unreadable file, another dtype (any
 // byte order or width other than <f4 / <i4), another shape than (N,), or another length.
-// The values are not judged here: NaN, negative t or huge ids are the certification's findings.
+// With primIds and PREFIX.run.json beside the pair (hitRunRecord): a pair where the record
+// vouches for one file and not the other is refused, naming both (one of them was written by
+// another run or program since). A record that vouches for neither says nothing about this pair
+// (another tracer wrote both over octrace's) and is ignored, as is a pair without one (every
+// tracer but octrace trace). The values are not judged here: NaN, negative t or huge ids are
+// the certification's findings.
 HitArrays readHitFiles(const std::string& prefix, uint64_t rays, const std::string& raysPath,
                        bool primIds = true);
 
