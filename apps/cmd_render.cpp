@@ -38,8 +38,8 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
     out.stage(o.out, encodePng(o.out, f.width, f.height, f.rgb));
     for (auto [path, img] : {std::pair{&o.heatmapOut, &t.heatmap}, {&o.overlayOut, &t.overlay}})
         if (!path->empty()) out.stage(*path, encodePng(*path, img->width, img->height, img->rgb));
-    if (!o.depthOut.empty()) out.stage(o.depthOut, encodeNpy("<f4", shape, f.t.data(), 4));
-    if (!o.primOut.empty()) out.stage(o.primOut, encodeNpy("<i4", shape, f.prim.data(), 4));
+    if (!o.depthOut.empty()) stageNpy(out, o.depthOut, "<f4", shape, f.t.data(), 4);
+    if (!o.primOut.empty()) stageNpy(out, o.primOut, "<i4", shape, f.prim.data(), 4);
     if (!o.costOut.empty()) {
         // (H, W, 2) int32: nodes visited, primitives tested (primary + shadow ray).
         std::vector<int32_t> cost(f.pixelCount() * 2);
@@ -47,8 +47,7 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
             cost[2 * i] = int32_t(f.nodes[i]);
             cost[2 * i + 1] = int32_t(f.primsTested[i]);
         }
-        out.stage(o.costOut,
-                  encodeNpy("<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4));
+        stageNpy(out, o.costOut, "<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4);
     }
     out.commit();
 }

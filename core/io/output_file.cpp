@@ -156,8 +156,8 @@ void refuseSpecialTarget(const std::string& path) {
 
 // Writes bytes to tmp (registered as `slot`); on failure removes it and throws naming the
 // target path.
-void writeTemp(const std::string& path, const std::string& tmp, int slot, const void* data,
-               size_t bytes) {
+void writeTemp(const std::string& path, const std::string& tmp, int slot,
+               const std::vector<OutputSet::Piece>& pieces) {
     std::FILE* f = std::fopen(tmp.c_str(), "wb");
     if (!f) {
         int err = errno;
@@ -166,7 +166,9 @@ void writeTemp(const std::string& path, const std::string& tmp, int slot, const 
                       " (check that the folder exists and is writable)");
     }
     errno = 0;
-    bool ok = bytes == 0 || std::fwrite(data, 1, bytes, f) == bytes;
+    bool ok = true;
+    for (const OutputSet::Piece& p : pieces)
+        ok = ok && (p.bytes == 0 || std::fwrite(p.data, 1, p.bytes, f) == p.bytes);
     int err = errno;
     if (std::fflush(f) != 0 && ok) {
         ok = false;
@@ -235,6 +237,10 @@ OutputSet::~OutputSet() {
 }
 
 void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
+    stage(path, std::vector<Piece>{{data, bytes}});
+}
+
+void OutputSet::stage(const std::string& path, const std::vector<Piece>& pieces) {
     const FileId id = identify(path);
     for (const Staged& s : staged_)
         if (sameFile(identify(s.path), id))
@@ -243,7 +249,7 @@ void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
     refuseSpecialTarget(path);
     std::string tmp = tempNameFor(path);
     int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, data, bytes);
+    writeTemp(path, tmp, slot, pieces);
     staged_.push_back({path, tmp, slot});
 }
 
@@ -270,7 +276,7 @@ void checkWritable(const std::string& path) {
     refuseSpecialTarget(path);
     std::string tmp = tempNameFor(path);
     int slot = registerTemp(tmp);
-    writeTemp(path, tmp, slot, "", 0);
+    writeTemp(path, tmp, slot, {});
     discardTemp(tmp, slot);
 }
 
