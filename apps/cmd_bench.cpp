@@ -202,6 +202,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     s.seed = o.seed;
     s.meshBuild.maxDepth = o.meshMaxDepth;
     s.meshBuild.maxPrims = o.meshMaxPrims;
+    s.meshBuild.maxNodes = o.limits.nodeBudget;  // clouds too: their build starts from it
     s.cloudMaxPrims = o.cloudMaxPrims;
     s.limits.hash = o.limits.hashParams();
     s.limits.linearBudget = o.limits.linearBudgetBytes();
@@ -226,6 +227,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
                    {"hash_slots", o.limits.hashSlots},
                    {"linear_budget_bytes", o.limits.linearBudgetBytes()},
                    {"hash_budget_bytes", o.limits.hashParams().budgetBytes},
+                   {"node_budget", o.limits.nodeBudget},
                    {"notes", meshNotes}};
 
     std::printf(

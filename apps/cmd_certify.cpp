@@ -217,9 +217,7 @@ void registerCertify(CLI::App& app) {
                     "right). The standard sets' kind is fixed: shadow is anyhit")
         ->check(CLI::IsMember({"closest", "anyhit"}))
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads,
-                    "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(numberIn(1, 4096));
+    addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runCertify(*o); });
 }
 

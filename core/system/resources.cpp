@@ -15,16 +15,25 @@ uint64_t physicalMemory() {
     return saturatingMul(uint64_t(pages), uint64_t(size));
 }
 
-// The address space the process maps now (VmSize), or 0 when /proc cannot tell.
-uint64_t mappedBytes() {
+// The address space the process maps now (VmSize) and what of it is resident (VmRSS), or 0
+// when /proc cannot tell.
+struct Footprint {
+    uint64_t mapped = 0, resident = 0;
+};
+
+Footprint footprint() {
+    Footprint fp;
     std::FILE* f = std::fopen("/proc/self/statm", "r");
-    if (!f) return 0;
-    unsigned long long pages = 0;
-    const bool ok = std::fscanf(f, "%llu", &pages) == 1;
+    if (!f) return fp;
+    unsigned long long size = 0, resident = 0;
+    const bool ok = std::fscanf(f, "%llu %llu", &size, &resident) == 2;
     std::fclose(f);
-    const long size = sysconf(_SC_PAGE_SIZE);
-    return ok && size > 0 ? saturatingMul(pages, uint64_t(size)) : 0;
+    const long page = sysconf(_SC_PAGE_SIZE);
+    if (!ok || page <= 0) return fp;
+    return {saturatingMul(size, uint64_t(page)), saturatingMul(resident, uint64_t(page))};
 }
+
+uint64_t minus(uint64_t a, uint64_t b) { return a > b ? a - b : 0; }
 
 }  // namespace
 
@@ -40,11 +49,13 @@ uint64_t saturatingAdd(uint64_t a, uint64_t b) {
 }
 
 MemoryLimit memoryLimit() {
-    MemoryLimit m{physicalMemory(), "of physical memory"};
+    const Footprint fp = footprint();
+    const uint64_t physical = physicalMemory();
+    MemoryLimit m{minus(physical, fp.resident),
+                  "left of the " + bytesText(physical) + " of physical memory"};
     struct rlimit as;
     if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
-        const uint64_t limit = uint64_t(as.rlim_cur), mapped = mappedBytes();
-        const uint64_t left = limit > mapped ? limit - mapped : 0;
+        const uint64_t limit = uint64_t(as.rlim_cur), left = minus(limit, fp.mapped);
         if (left < m.bytes)
             m = {left,
                  "left under the address-space limit of " + bytesText(limit) + " (ulimit -v)"};
@@ -77,11 +88,20 @@ std::string bytesText(uint64_t bytes) {
     return b;
 }
 
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice) {
+    return memoryShortfall(bytes, what, advice, memoryLimit());
+}
+
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice,
+                            const MemoryLimit& m) {
+    if (bytes <= m.bytes) return "";
+    return what + " needs about " + bytesText(bytes) + " of memory, more than the " +
+           bytesText(m.bytes) + " " + m.source + "; " + advice;
+}
+
 void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice) {
-    const MemoryLimit m = memoryLimit();
-    if (bytes <= m.bytes) return;
-    throw ResourceError(what + " needs about " + bytesText(bytes) + " of memory, more than the " +
-                        bytesText(m.bytes) + " " + m.source + "; " + advice);
+    const std::string why = memoryShortfall(bytes, what, advice);
+    if (!why.empty()) throw ResourceError(why);
 }
 
 }  // namespace oct

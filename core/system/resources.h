@@ -19,14 +19,17 @@ public:
 
 struct MemoryLimit {
     uint64_t bytes = 0;  // what the process may still allocate
-    // Where the figure comes from: "of physical memory", or "under the address-space limit
-    // (ulimit -v)" with what the process already maps taken off.
+    // Where the figure comes from, after "the N": "left of the 23.5 GiB of physical memory",
+    // "left under the address-space limit of 1.00 GiB (ulimit -v)".
     std::string source;
 };
 
-// The smaller of physical memory (sysconf(_SC_PHYS_PAGES) * sysconf(_SC_PAGE_SIZE)) and, when
-// RLIMIT_AS is set, that limit less the address space already mapped (/proc/self/statm), which
-// counts against it. Read on every call: the limit is the process's, and tests lower it.
+// What the process may still allocate: physical memory (sysconf(_SC_PHYS_PAGES) *
+// sysconf(_SC_PAGE_SIZE)) less what it holds resident, or, when RLIMIT_AS is set and leaves
+// less, that limit less the address space it maps (/proc/self/statm), which counts against it.
+// Either way the figure is what is left now, so that a check made between two allocations
+// (the builder's, level by level) counts only what comes next. Read on every call: the limit
+// is the process's, and tests lower it.
 MemoryLimit memoryLimit();
 
 // Cores online (sysconf(_SC_NPROCESSORS_ONLN)), at least 1.
@@ -35,9 +38,15 @@ int onlineCores();
 // "512 MiB", "8.6 GiB": binary units, three significant digits.
 std::string bytesText(uint64_t bytes);
 
-// Throws ResourceError when `bytes` exceed memoryLimit(): "<what> needs about <bytes> of
-// memory, more than the <limit> <source>; <advice>". `what` names the work and its options
-// ("octrace rays --size 16384x16384 --count 30000"), `advice` what to lower.
+// "" when `bytes` fit memoryLimit(), else why not: "<what> needs about <bytes> of memory, more
+// than the <limit> <source>; <advice>". `what` names the work and its options ("octrace rays
+// --size 16384x16384 --count 30000"), `advice` what to lower. For callers with an error type
+// of their own (the builder's OctreeError).
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice);
+// The same against a limit read before (what was left when a level began).
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice,
+                            const MemoryLimit& limit);
+// The same, thrown as ResourceError.
 void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice);
 
 // a * b, or UINT64_MAX when it overflows: estimates of absurd requests stay absurd, not small.

@@ -316,5 +316,62 @@ TEST_F(Robustness, RaysAreWrittenWithoutACopyOfThem) {
     EXPECT_LT(extra, 1.4 * rows) << "a copy of the rays was held at once";
 }
 
+// `info quad.obj --max-depth 21 --max-prims 1` (two triangles sharing a diagonal) built cells
+// along the diagonal down to depth 21: 48 s and 6 GB, then bad_alloc. The builder's node
+// budget (--node-budget) and its memory check refuse the level that would pass them, naming the
+// figure and the options that shrink the tree.
+TEST_F(Robustness, OctreeNodesAreBoundedWhileBuilding) {
+    ASSERT_TRUE(octtest::writeFile(path("quad.obj"),
+                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+    RunResult r = run({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1",
+                       "--node-budget", "200000"});
+    EXPECT_TRUE(isOneLineError(r));
+    for (const char* says :
+         {"more than 200000 nodes", "--node-budget", "--max-depth", "--max-prims"})
+        EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+#if !defined(__SANITIZE_ADDRESS__)
+    // Under a memory limit the default budget is not reached first: the memory check refuses.
+    RunOptions opt;
+    opt.addressSpaceLimit = uint64_t(1) << 30;
+    opt.timeoutSeconds = 60;
+    r = octtest::runOctrace({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1"},
+                            root_->path() / "capture", opt);
+    EXPECT_TRUE(isOneLineError(r));
+    for (const char* says : {"nodes", "of memory", "ulimit -v", "--max-depth", "--max-prims"})
+        EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("bad_alloc"), std::string::npos) << r.err;
+#endif
+}
+
+// `--threads 4096` under a memory limit ended in libgomp's "Thread creation failed" (an abort,
+// no octrace line). --threads is bounded by the machine: at most 8 per core online.
+TEST_F(Robustness, ThreadsBeyondTheMachineAreRefusedWithTheBound) {
+    const int most = 8 * int(sysconf(_SC_NPROCESSORS_ONLN));
+    rays("one.npy", kGoodRay);
+    auto traceWith = [&](int threads, uint64_t addressSpace) {
+        std::vector<std::string> args = trace(kCube, path("one.npy"), "cpu");
+        args.insert(args.end(), {"--threads", std::to_string(threads)});
+        RunOptions opt;
+        opt.timeoutSeconds = 30;
+        opt.addressSpaceLimit = addressSpace;
+        return octtest::runOctrace(args, root_->path() / "capture", opt);
+    };
+    RunResult r = traceWith(most + 1, 0);
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("--threads: " + std::to_string(most + 1) + " is not in [1, " +
+                         std::to_string(most) + "]"),
+              std::string::npos)
+        << r.err;
+    r = traceWith(most, 0);
+    EXPECT_EQ(r.status, 0) << show(r);
+#if !defined(__SANITIZE_ADDRESS__)
+    if (most < 4096) {
+        r = traceWith(4096, uint64_t(512) << 20);
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
+    }
+#endif
+}
+
 }  // namespace
 }  // namespace oct
