@@ -254,6 +254,16 @@ const BackendDesc& parseOneBackend(const std::string& text, const char* command,
     return *b[0];
 }
 
+void checkRayFileMemory(const char* command, const std::string& path, uint64_t rows,
+                        uint64_t bytesPerRow) {
+    checkMemory(saturatingMul(rows, bytesPerRow),
+                std::string("octrace ") + command + " on the " + std::to_string(rows) +
+                    " rays of '" + path + "'",
+                std::string(command) +
+                    " the rays in parts (numpy.array_split the file) or on a machine with more "
+                    "memory");
+}
+
 void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what) {
     cmd.add_option("--json", path,
                    "Also write " + what +

@@ -128,6 +128,12 @@ std::vector<const BackendDesc*> parseBackendList(const std::string& text,
 const LayoutDesc& parseOneLayout(const std::string& text, const char* command);
 const BackendDesc& parseOneBackend(const std::string& text, const char* command, std::string& note);
 
+// Before a ray file's rows are read (the reader's allocate step): `rows` times `bytesPerRow`
+// (the rows and what the command keeps per row) against the machine's memory; throws
+// ResourceError naming the file, its rows and the figure.
+void checkRayFileMemory(const char* command, const std::string& path, uint64_t rows,
+                        uint64_t bytesPerRow);
+
 // --json FILE, '-' for stdout; a bare --json (nothing after it) is stdout too.
 void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what);
 // Writes text to `path`, or to stdout for '-'. Throws naming the file when it cannot.

@@ -83,7 +83,15 @@ void runCertify(const CertifyCliOptions& o) {
         clock = now;
         return s;
     };
-    std::vector<float> rows = readRayFile(o.rays);
+    std::vector<float> rows;
+    readRayFileInto(o.rays, [&](uint64_t n) {
+        // About 96 bytes a row: the row (32), the hits read back (8), the reference's closest
+        // and any hit (16), the verdicts (class, reasons, leak: 6) and the classifier's per-row
+        // results beside them.
+        checkRayFileMemory("certify", o.rays, n, 96);
+        rows.resize(n * 8);
+        return rows.data();
+    });
     const uint64_t n = rows.size() / 8;
     if (n == 0)
         throw std::runtime_error("'" + o.rays +

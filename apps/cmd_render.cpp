@@ -8,6 +8,7 @@
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
+#include "core/system/resources.h"
 #include "teach/heatmap.h"
 #include "teach/overlay.h"
 #include "validation/policy/film_compare.h"
@@ -117,6 +118,18 @@ void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Fi
         c.maxRelativeDt);
 }
 
+// About the most memory a render holds at once, by pixel: the Film (and Embree's, to compare),
+// the PNG's filtered rows and compressed bytes, the cost array, the teaching images and theirs.
+uint64_t renderPeakBytes(const RenderOptions& o, uint64_t pixels) {
+    const uint64_t png = 2 * 3;  // filtered RGB rows, then the compressed file (no smaller)
+    uint64_t perPixel = kFilmBytesPerPixel + png;
+    if (o.compareEmbree) perPixel += kFilmBytesPerPixel;
+    if (!o.costOut.empty()) perPixel += 2 * sizeof(int32_t);
+    for (const std::string* image : {&o.heatmapOut, &o.overlayOut})
+        if (!image->empty()) perPixel += 3 + png;
+    return saturatingMul(pixels, perPixel);
+}
+
 void runRender(const RenderOptions& o) {
     CameraOptions cam = cameraOptions(o.camera);
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "render");
@@ -125,6 +138,8 @@ void runRender(const RenderOptions& o) {
     checkTeachOptions(o, backend);
     checkOutputs(o);
     setCpuThreadsFromOption(o.trace.threads);
+    checkMemory(renderPeakBytes(o, uint64_t(cam.width) * uint64_t(cam.height)),
+                "octrace render --size " + o.camera.size, "use a smaller --size");
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     if (scene.report.totalDropped() > 0)

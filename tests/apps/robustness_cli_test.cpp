@@ -373,5 +373,56 @@ TEST_F(Robustness, ThreadsBeyondTheMachineAreRefusedWithTheBound) {
 #endif
 }
 
+// A ray file of `rows` rows whose data are a hole (a sparse file: no disk, zeros when read):
+// the reader's size checks pass and the rows would be refused only once read.
+void sparseRayFile(const std::string& file, uint64_t rows) {
+    const std::string header =
+        "{'descr': '<f4', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", 8), }";
+    std::string dict = header;
+    dict.append((64 - (10 + dict.size() + 1) % 64) % 64, ' ');
+    dict.push_back('\n');
+    std::string bytes("\x93NUMPY\x01\x00", 8);
+    bytes.push_back(char(dict.size() & 0xff));
+    bytes.push_back(char(dict.size() >> 8));
+    bytes += dict;
+    ASSERT_TRUE(octtest::writeFile(file, bytes));
+    fs::resize_file(file, bytes.size() + rows * 32);
+}
+
+// Every command that holds a user-sized array estimates it against the machine before
+// allocating it and refuses with the figure: before, each of these ended in a bare bad_alloc
+// (or, for validate and bench, minutes of work first).
+TEST_F(Robustness, ArraysTooLargeForMemoryAreRefusedWithTheFigure) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#else
+    sparseRayFile(path("huge.npy"), uint64_t(64) << 20);  // 2 GiB of rows
+    struct Case {
+        std::vector<std::string> args;
+        const char* names;  // the option or input whose size is refused
+    };
+    const std::vector<Case> cases = {
+        {{"render", kCube, "--size", "16384x16384", "--out", path("o.png")}, "--size 16384x16384"},
+        {trace(kCube, path("huge.npy"), "cpu"), "67108864 rays"},
+        {{"certify", kCube, "--rays", path("huge.npy"), "--hits", path("hits")}, "67108864 rays"},
+        {{"info", "grid:1000000000"}, "grid:1000000000"},
+        {{"bench", "--clouds", "10", "--meshes", "none", "--backends", "cpu", "--size",
+          "16384x16384", "--repeats", "1", "--warmup", "0", "--no-progress", "--out",
+          path("bench")},
+         "--size 16384x16384"},
+    };
+    for (const Case& c : cases) {
+        RunOptions opt;
+        opt.addressSpaceLimit = uint64_t(2) << 30;
+        opt.timeoutSeconds = 60;
+        const RunResult r = octtest::runOctrace(c.args, root_->path() / "capture", opt);
+        SCOPED_TRACE(c.args[0] + " " + c.names);
+        EXPECT_TRUE(isOneLineError(r));
+        for (const char* says : {c.names, "of memory", "ulimit -v"})
+            EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    }
+#endif
+}
+
 }  // namespace
 }  // namespace oct
