@@ -12,6 +12,7 @@
 #include "core/io/output_file.h"
 #include "core/render/frame.h"
 #include "core/scene/scene_formats.h"
+#include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
 
 namespace oct {
@@ -26,6 +27,7 @@ LayoutOptions SceneOptions::layoutOptions() const {
     LayoutOptions o;
     o.build.maxDepth = maxDepth;
     o.build.maxPrims = maxPrims;
+    o.build.maxNodes = limits.nodeBudget;
     o.hash = limits.hashParams();
     o.linearBudget = limits.linearBudgetBytes();
     return o;
@@ -60,6 +62,12 @@ void addLayoutLimitOptions(CLI::App& cmd, LayoutLimitOptions& o, const std::stri
            "Largest hash octree (m * B slots) to allocate, MiB (larger: " + overBudget + ")")
         ->capture_default_str()
         ->check(numberIn(1, double(uint64_t(1) << 24)));
+    cmd.add_option("--node-budget", o.nodeBudget,
+                   "Most octree nodes to build (48 bytes each, some 220 while building); a tree "
+                   "needing more is refused while it is built, and so is a level needing more "
+                   "memory than is left")
+        ->capture_default_str()
+        ->check(numberIn(1, double(kMaxNodeBudget)));
 }
 
 namespace {
@@ -126,6 +134,15 @@ CLI::Validator numberIn(double lo, double hi) {
                           "[" + shortest(lo) + ", " + shortest(hi) + "]", kNumberValidator);
 }
 
+CLI::Validator numberIn(double lo, double hi, const std::string& why) {
+    return CLI::Validator(
+        [lo, hi, why](std::string& text) {
+            const std::string problem = numberProblem(text, lo, hi);
+            return problem.empty() ? problem : problem + " (" + why + ")";
+        },
+        "[" + shortest(lo) + ", " + shortest(hi) + "]", kNumberValidator);
+}
+
 void parseImageSize(const std::string& text, int& w, int& h) {
     unsigned long long a = 0, b = 0;
     char x = 0, extra = 0;
@@ -150,13 +167,26 @@ Vec3 parseVec3(const std::string& option, const std::string& text) {
 
 void setCpuThreadsFromOption(int threads) { setCpuThreads(threads); }
 
+int maxThreads() { return kThreadsPerCore * onlineCores(); }
+
+void addThreadsOption(CLI::App& cmd, int& threads) {
+    const int most = maxThreads();
+    cmd.add_option("--threads", threads,
+                   "OpenMP threads, at most " + std::to_string(most) + " (" +
+                       std::to_string(kThreadsPerCore) +
+                       " per core online; default: OMP_NUM_THREADS or all cores)")
+        ->check(numberIn(1, most,
+                         std::to_string(kThreadsPerCore) +
+                             " per core online: more only take "
+                             "turns on the cores, each with a stack of its own"));
+}
+
 void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHelp) {
     // The plural spellings are bench's earlier ones, accepted everywhere.
     cmd.add_option("--accel,--accels", o.accel, "Acceleration layout: " + layoutNames())
         ->capture_default_str();
     cmd.add_option("--backend,--backends", o.backend, backendHelp)->capture_default_str();
-    cmd.add_option("--threads", o.threads, "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(numberIn(1, 4096));
+    addThreadsOption(cmd, o.threads);
 }
 
 std::vector<std::string> splitList(const std::string& text) {
@@ -222,6 +252,16 @@ const BackendDesc& parseOneBackend(const std::string& text, const char* command,
                                                     "compare several)");
     note = notes.empty() ? "" : notes[0];
     return *b[0];
+}
+
+void checkRayFileMemory(const char* command, const std::string& path, uint64_t rows,
+                        uint64_t bytesPerRow) {
+    checkMemory(saturatingMul(rows, bytesPerRow),
+                std::string("octrace ") + command + " on the " + std::to_string(rows) +
+                    " rays of '" + path + "'",
+                std::string(command) +
+                    " the rays in parts (numpy.array_split the file) or on a machine with more "
+                    "memory");
 }
 
 void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what) {

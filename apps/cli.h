@@ -57,20 +57,25 @@ std::string outOfMemoryAdvice(const CLI::App& command);
 constexpr const char* kNumberValidator = "NUMBER";
 CLI::Validator finiteNumber();
 CLI::Validator numberIn(double lo, double hi);
+// The same, with why the bounds are what they are appended to the out-of-range message
+// ("--threads: 4096 is not in [1, 16] (8 threads per core online ...)").
+CLI::Validator numberIn(double lo, double hi, const std::string& why);
 // --radius's own range, after finiteNumber(): a float > 0 (0 is the default rule, not a value).
 CLI::Validator positiveRadius();
 
-// --hash-slots, --linear-budget, --hash-budget: the layouts' shape and memory limits, the same
-// for every command that builds layouts (SceneOptions below, and `octrace bench`).
+// --hash-slots, --linear-budget, --hash-budget, --node-budget: the layouts' shape and the
+// memory limits of the octree and its layouts, the same for every command that builds layouts
+// (SceneOptions below, and `octrace bench`).
 struct LayoutLimitOptions {
     uint32_t hashSlots = HashParams{}.bucketSlots;
     uint64_t linearBudgetMiB = kDefaultLinearBudget >> 20;
     uint64_t hashBudgetMiB = kDefaultHashBudget >> 20;
+    uint64_t nodeBudget = kDefaultNodeBudget;  // BuildParams::maxNodes
 
     uint64_t linearBudgetBytes() const { return linearBudgetMiB << 20; }
     HashParams hashParams() const { return {hashSlots, hashBudgetMiB << 20}; }
 };
-// Registers the three options; `overBudget` ends the budgets' help (what happens past one).
+// Registers the four options; `overBudget` ends the layout budgets' help (what happens past one).
 void addLayoutLimitOptions(CLI::App& cmd, LayoutLimitOptions& o, const std::string& overBudget);
 
 // Options every subcommand that builds an octree shares (`octrace info` documents them).
@@ -97,8 +102,17 @@ struct TraceChoice {
 };
 // The defaults are o's values when called; `backendHelp` says what the command accepts.
 void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHelp);
+// --threads alone (certify, which has no --accel or --backend), bounded by maxThreads().
+void addThreadsOption(CLI::App& cmd, int& threads);
 // Applies --threads (0: leave OpenMP's default, i.e. OMP_NUM_THREADS or all cores).
 void setCpuThreadsFromOption(int threads);
+// --threads' bound: kThreadsPerCore times the cores online (core/system/resources.h). Threads
+// past the cores only take turns on them, and each reserves a stack: `--threads 4096` under a
+// memory limit ended in libgomp's "Thread creation failed", an abort with no octrace line.
+// Eight per core leaves room to oversubscribe on purpose (a test of thread counts on a small
+// machine) and keeps the stacks to a few hundred MiB even on large machines.
+constexpr int kThreadsPerCore = 8;
+int maxThreads();
 
 // Splits a comma list, trimming spaces and tabs around each item and dropping empty ones: the
 // one list parser of the command line.
@@ -113,6 +127,12 @@ std::vector<const BackendDesc*> parseBackendList(const std::string& text,
 // Exactly one layout or backend, for the commands that draw one (render, trace).
 const LayoutDesc& parseOneLayout(const std::string& text, const char* command);
 const BackendDesc& parseOneBackend(const std::string& text, const char* command, std::string& note);
+
+// Before a ray file's rows are read (the reader's allocate step): `rows` times `bytesPerRow`
+// (the rows and what the command keeps per row) against the machine's memory; throws
+// ResourceError naming the file, its rows and the figure.
+void checkRayFileMemory(const char* command, const std::string& path, uint64_t rows,
+                        uint64_t bytesPerRow);
 
 // --json FILE, '-' for stdout; a bare --json (nothing after it) is stdout too.
 void addJsonOption(CLI::App& cmd, std::string& path, const std::string& what);

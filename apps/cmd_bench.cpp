@@ -11,6 +11,7 @@
 #include "bench/sweep/machine.h"
 #include "bench/sweep/sweep.h"
 #include "core/scene/grid_cloud.h"
+#include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
 
 namespace oct {
@@ -84,6 +85,22 @@ uint32_t parseCount(const std::string& text) {
         throw CLI::ValidationError(
             "--clouds", "'" + text + "' must be between 1 and " + std::to_string(maxN) + " points");
     return uint32_t(n);
+}
+
+// Before the sweep: its largest case against the machine's memory. A case holds its Film and
+// the reference frame's (20 bytes a pixel each) and, for a cloud, the cloud being made
+// (gridCloudBytes); the octree and the layouts check their own (the builder's node budget, the
+// layout budgets). Without it a 16384x16384 sweep under a memory limit skipped every case as
+// "out of memory" and exited 0.
+void checkSweepMemory(const BenchOptions& o, const SweepOptions& s) {
+    uint64_t largestCloud = 0;
+    for (const SceneSpec& scene : s.scenes)
+        if (scene.cloud) largestCloud = std::max(largestCloud, gridCloudBytes(scene.n));
+    const uint64_t pixels = uint64_t(s.width) * uint64_t(s.height);
+    checkMemory(
+        saturatingAdd(saturatingMul(pixels, 2 * kFilmBytesPerPixel), largestCloud),
+        "octrace bench --size " + o.size + (o.clouds == "none" ? "" : " --clouds " + o.clouds),
+        "use a smaller --size or smaller --clouds");
 }
 
 std::string joined(const std::vector<std::string>& items) {
@@ -184,6 +201,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     std::vector<std::string> meshNotes;
     s.scenes = sceneList(o, meshNotes);
     if (s.scenes.empty()) throw CLI::ValidationError("--clouds", "nothing to benchmark");
+    checkSweepMemory(o, s);
 
     fs::path dir = o.out;
     std::error_code ec;
@@ -202,6 +220,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     s.seed = o.seed;
     s.meshBuild.maxDepth = o.meshMaxDepth;
     s.meshBuild.maxPrims = o.meshMaxPrims;
+    s.meshBuild.maxNodes = o.limits.nodeBudget;  // clouds too: their build starts from it
     s.cloudMaxPrims = o.cloudMaxPrims;
     s.limits.hash = o.limits.hashParams();
     s.limits.linearBudget = o.limits.linearBudgetBytes();
@@ -226,6 +245,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
                    {"hash_slots", o.limits.hashSlots},
                    {"linear_budget_bytes", o.limits.linearBudgetBytes()},
                    {"hash_budget_bytes", o.limits.hashParams().budgetBytes},
+                   {"node_budget", o.limits.nodeBudget},
                    {"notes", meshNotes}};
 
     std::printf(

@@ -86,7 +86,15 @@ void runCertify(const CertifyCliOptions& o) {
         clock = now;
         return s;
     };
-    std::vector<float> rows = readRayFile(o.rays);
+    std::vector<float> rows;
+    readRayFileInto(o.rays, [&](uint64_t n) {
+        // About 96 bytes a row: the row (32), the hits read back (8), the reference's closest
+        // and any hit (16), the verdicts (class, reasons, leak: 6) and the classifier's per-row
+        // results beside them.
+        checkRayFileMemory("certify", o.rays, n, 96);
+        rows.resize(n * 8);
+        return rows.data();
+    });
     const uint64_t n = rows.size() / 8;
     if (n == 0)
         throw std::runtime_error("'" + o.rays +
@@ -220,9 +228,7 @@ void registerCertify(CLI::App& app) {
                     "right). The standard sets' kind is fixed: shadow is anyhit")
         ->check(CLI::IsMember({"closest", "anyhit"}))
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads,
-                    "OpenMP threads (default: OMP_NUM_THREADS or all cores)")
-        ->check(numberIn(1, 4096));
+    addThreadsOption(*cmd, o->threads);
     cmd->callback([o] { runCertify(*o); });
 }
 

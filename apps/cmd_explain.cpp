@@ -1,12 +1,16 @@
 // octrace explain: one pixel's (or one ray's) traversal step by step, as text, JSON or an
 // interactive HTML page. The work is teach/explain.h (the kernel with a recording observer) and
 // teach/explain_page.h; this file parses the options and prints.
+#include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 #include "apps/cli.h"
 #include "core/io/output_file.h"
+#include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
 #include "teach/explain.h"
 #include "teach/explain_page.h"
@@ -33,24 +37,32 @@ void parsePixel(const std::string& text, int& x, int& y) {
     y = int(b);
 }
 
-// "ox,oy,oz,dx,dy,dz": six finite numbers, the direction not zero.
-void parseRay(const std::string& text, Vec3& origin, Vec3& dir) {
+// "ox,oy,oz,dx,dy,dz[,tmin,tmax]": a row of a ray file (tmin 0 and tmax +inf when left out),
+// each number read as float32 as numpy.float32 reads it (1e39 is +inf, 1e-50 is 0), so that the
+// ray file's rule, checked next, meets the same floats as in a file trace reads.
+std::array<float, 8> parseRay(const std::string& text) {
     std::vector<std::string> parts;
     std::stringstream in(text);
     for (std::string item; std::getline(in, item, ',');) parts.push_back(item);
-    float v[6];
-    bool ok = parts.size() == 6;
-    for (size_t i = 0; ok && i < 6; ++i) {
-        std::istringstream p(parts[i]);
-        ok = bool(p >> v[i]) && (p >> std::ws).eof() && std::isfinite(v[i]);
+    std::array<float, 8> row = {0, 0, 0, 0, 0, 0, 0.0f, INFINITY};
+    bool ok = parts.size() == 6 || parts.size() == 8;
+    for (size_t i = 0; ok && i < parts.size(); ++i) {
+        char* end = nullptr;
+        row[i] = std::strtof(parts[i].c_str(), &end);
+        while (end != parts[i].c_str() && std::isspace((unsigned char)*end)) ++end;
+        ok = end != parts[i].c_str() && *end == '\0';
     }
     if (!ok)
-        throw CLI::ValidationError("--ray",
-                                   "'" + text + "' is not six finite numbers ox,oy,oz,dx,dy,dz");
-    origin = {v[0], v[1], v[2]};
-    dir = {v[3], v[4], v[5]};
-    if (!(length(dir) > 0.0f))
-        throw CLI::ValidationError("--ray", "'" + text + "': the direction dx,dy,dz is zero");
+        throw CLI::ValidationError(
+            "--ray", "'" + text + "' is not six or eight numbers ox,oy,oz,dx,dy,dz[,tmin,tmax]");
+    return row;
+}
+
+// The ray file's rule (core/io/ray_file.h), the one trace applies to every row: explain takes
+// exactly the rays trace takes.
+void checkRay(const std::string& text, const std::array<float, 8>& row) {
+    const std::string problem = rayRowProblem(row.data());
+    if (!problem.empty()) throw std::runtime_error("--ray '" + text + "': " + problem);
 }
 
 void runExplain(const ExplainOptions& o) {
@@ -60,10 +72,11 @@ void runExplain(const ExplainOptions& o) {
         throw CLI::ValidationError("--ray", "give --pixel or --ray, not both");
     // Default: the image's centre pixel.
     int x = cam.width / 2, y = cam.height / 2;
-    Vec3 origin, dir;
-    if (!o.ray.empty())
-        parseRay(o.ray, origin, dir);
-    else if (!o.pixel.empty())
+    std::array<float, 8> row{};
+    if (!o.ray.empty()) {
+        row = parseRay(o.ray);
+        checkRay(o.ray, row);
+    } else if (!o.pixel.empty())
         parsePixel(o.pixel, x, y);
     if (o.ray.empty()) checkPixelInImage(x, y, cam.width, cam.height);
     if (o.html == "-") throw CLI::ValidationError("--html", "needs a file name, not stdout");
@@ -76,7 +89,7 @@ void runExplain(const ExplainOptions& o) {
     BuiltScene bs = buildScene(scene, layout, o.scene.layoutOptions());
     const FrameParams frame = makeFrame(scene.bounds(), cam);
     const Explanation e =
-        o.ray.empty() ? explainPixel(bs, frame, x, y) : explainRay(bs, frame, origin, dir);
+        o.ray.empty() ? explainPixel(bs, frame, x, y) : explainRay(bs, frame, row.data());
 
     OutputSet out;  // every file or none
     PageStats page;
@@ -118,8 +131,9 @@ void registerExplain(CLI::App& app) {
                     "Pixel X,Y of the image render draws with the same camera options (row 0 at "
                     "the top; default: the centre)");
     cmd->add_option("--ray", o->ray,
-                    "A ray of your own ox,oy,oz,dx,dy,dz instead of a pixel: closest hit, then "
-                    "its shadow ray");
+                    "A ray of your own ox,oy,oz,dx,dy,dz[,tmin,tmax] instead of a pixel, as a row "
+                    "of a trace ray file (the same rule; tmin 0 and tmax inf by default): closest "
+                    "hit, then its shadow ray");
     addJsonOption(*cmd, o->json, "every step, the hits and the totals");
     cmd->add_option("--html", o->html,
                     "Write an interactive page (one self-contained file): the model, the cells "

@@ -11,6 +11,7 @@
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "core/scene/scene_formats.h"
+#include "core/system/resources.h"
 #include "validation/rays/ray_manifest.h"
 
 namespace oct {
@@ -92,6 +93,12 @@ void runRays(const RaysOptions& o) {
     if (!o.triangles.empty() && scene.kind != PrimKind::Triangles)
         throw std::runtime_error("--triangles: '" + o.scene + "' is a point cloud");
 
+    // Before a row is drawn: the sets' memory against the machine's (core/system/resources.h).
+    checkMemory(raySetPeakBytes(spec),
+                "octrace rays --size " + o.camera.size + " --count " + std::to_string(o.count),
+                "use a smaller --size (the camera and shadow sets hold a row per pixel each) or a "
+                "smaller --count");
+
     // The shadow set starts at the reference's camera hits: the backend list's reference.
     std::unique_ptr<SceneTracer> reference;
     BuiltScene bare = bareScene(scene);
@@ -104,13 +111,14 @@ void runRays(const RaysOptions& o) {
     RayManifest manifest = describeRaySet(scene, spec, rays);
 
     OutputSet out;  // all files or none
-    out.stage(o.out, encodeNpy("<f4", {rays.count(), 8}, rays.rays.data(), 4));
+    // Written from the rays where they lie (no encoded copy of the file in memory).
+    stageNpy(out, o.out, "<f4", {rays.count(), 8}, rays.rays.data(), 4);
     const std::string json = toJson(manifest).dump(2) + "\n";
     out.stage(manifestPath, json.data(), json.size());
     if (!o.triangles.empty()) {
         static_assert(sizeof(Triangle) == 36, "a triangle is nine packed floats");
-        out.stage(o.triangles, encodeNpy("<f4", {uint64_t(scene.triangles.size()), 9},
-                                         scene.triangles.data(), 4));
+        stageNpy(out, o.triangles, "<f4", {uint64_t(scene.triangles.size()), 9},
+                 scene.triangles.data(), 4);
     }
     out.commit();
 

@@ -8,6 +8,7 @@
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
+#include "core/system/resources.h"
 #include "teach/heatmap.h"
 #include "teach/overlay.h"
 #include "validation/policy/film_compare.h"
@@ -38,8 +39,8 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
     out.stage(o.out, encodePng(o.out, f.width, f.height, f.rgb));
     for (auto [path, img] : {std::pair{&o.heatmapOut, &t.heatmap}, {&o.overlayOut, &t.overlay}})
         if (!path->empty()) out.stage(*path, encodePng(*path, img->width, img->height, img->rgb));
-    if (!o.depthOut.empty()) out.stage(o.depthOut, encodeNpy("<f4", shape, f.t.data(), 4));
-    if (!o.primOut.empty()) out.stage(o.primOut, encodeNpy("<i4", shape, f.prim.data(), 4));
+    if (!o.depthOut.empty()) stageNpy(out, o.depthOut, "<f4", shape, f.t.data(), 4);
+    if (!o.primOut.empty()) stageNpy(out, o.primOut, "<i4", shape, f.prim.data(), 4);
     if (!o.costOut.empty()) {
         // (H, W, 2) int32: nodes visited, primitives tested (primary + shadow ray).
         std::vector<int32_t> cost(f.pixelCount() * 2);
@@ -47,8 +48,7 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
             cost[2 * i] = int32_t(f.nodes[i]);
             cost[2 * i + 1] = int32_t(f.primsTested[i]);
         }
-        out.stage(o.costOut,
-                  encodeNpy("<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4));
+        stageNpy(out, o.costOut, "<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4);
     }
     out.commit();
 }
@@ -119,6 +119,18 @@ void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Fi
         c.maxRelativeDt);
 }
 
+// About the most memory a render holds at once, by pixel: the Film (and Embree's, to compare),
+// the PNG's filtered rows and compressed bytes, the cost array, the teaching images and theirs.
+uint64_t renderPeakBytes(const RenderOptions& o, uint64_t pixels) {
+    const uint64_t png = 2 * 3;  // filtered RGB rows, then the compressed file (no smaller)
+    uint64_t perPixel = kFilmBytesPerPixel + png;
+    if (o.compareEmbree) perPixel += kFilmBytesPerPixel;
+    if (!o.costOut.empty()) perPixel += 2 * sizeof(int32_t);
+    for (const std::string* image : {&o.heatmapOut, &o.overlayOut})
+        if (!image->empty()) perPixel += 3 + png;
+    return saturatingMul(pixels, perPixel);
+}
+
 void runRender(const RenderOptions& o) {
     CameraOptions cam = cameraOptions(o.camera);
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "render");
@@ -127,6 +139,8 @@ void runRender(const RenderOptions& o) {
     checkTeachOptions(o, backend);
     const std::vector<OutputLock> locks = checkOutputs(o);
     setCpuThreadsFromOption(o.trace.threads);
+    checkMemory(renderPeakBytes(o, uint64_t(cam.width) * uint64_t(cam.height)),
+                "octrace render --size " + o.camera.size, "use a smaller --size");
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     if (scene.report.totalDropped() > 0)

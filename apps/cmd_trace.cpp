@@ -41,7 +41,9 @@ void runTrace(const TraceOptions& o) {
     };
     Clock::time_point t0 = Clock::now();
     std::unique_ptr<float[]> rays;
-    const uint64_t n = readRayFileInto(o.rays, [&rays](uint64_t rows) {
+    const uint64_t n = readRayFileInto(o.rays, [&](uint64_t rows) {
+        // The rows, then a t and a prim per row in the output files.
+        checkRayFileMemory("trace", o.rays, rows, 8 * sizeof(float) + sizeof(float) + 4);
         rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
         return rays.get();
     });

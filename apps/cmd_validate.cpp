@@ -13,6 +13,7 @@
 #include "bench/table1/table1.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
+#include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
 #include "validation/regression/regression_files.h"
 #include "validation/report/diff_image.h"
@@ -25,6 +26,9 @@ namespace {
 // Ray sets keep 8 floats per ray plus four answer arrays per tracer: 1e8 rays are about 5 GB,
 // and the per-ray indices stay far below 2^32. More is a typo, refused before any allocation.
 constexpr uint64_t kMaxValidateRays = 100000000;
+// The box-test contract takes some 10 us a ray (GMP rationals, one thread): 1e8 rays are about
+// 17 minutes, a soak; 99999999999 ran for 12 days. The same bound as --rays.
+constexpr uint64_t kMaxBoxContractRays = 100000000;
 
 struct ValidateCliOptions {
     SceneOptions scene;
@@ -119,6 +123,12 @@ void runValidate(const ValidateCliOptions& o) {
     vo.replication = !o.noReplication;
     vo.boxContractRays = o.boxRays;
 
+    // The films and rays against the machine's memory, before the scene is loaded.
+    checkMemory(validatePeakBytes(vo, layoutList.size() * backendList.size()),
+                "octrace validate --size " + o.size + " --rays " + std::to_string(o.rays) + " (" +
+                    std::to_string(layoutList.size() * backendList.size()) + " runs)",
+                "use a smaller --size or fewer --rays");
+
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     if (scene.report.totalDropped() > 0)
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
@@ -207,9 +217,10 @@ void registerValidate(CLI::App& app) {
     cmd->add_flag("--no-replication", o->noReplication, "Skip the replication check");
     cmd->add_option("--box-rays", o->boxRays,
                     "Rays of the box-test contract (exact rationals against the kernel's slab "
-                    "tests on the octree's boxes, docs/VALIDATION.md); 0 for none")
+                    "tests on the octree's boxes, docs/VALIDATION.md); 0 for none, at most 1e8 "
+                    "(some 10 us each)")
         ->capture_default_str()
-        ->check(finiteNumber());
+        ->check(numberIn(0, double(kMaxBoxContractRays), "some 10 us a ray: 1e8 is a soak"));
     cmd->add_flag("--table1", o->table1,
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");

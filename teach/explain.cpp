@@ -1,10 +1,12 @@
 #include "teach/explain.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "core/io/ray_file.h"
 #include "core/octree/skip_reasons.h"
 #include "core/render/kernel.h"
 #include "teach/teach_error.h"
@@ -323,13 +325,41 @@ Explanation explainPixel(const BuiltScene& bs, const FrameParams& frame, int x, 
     return e;
 }
 
+Ray explainedRay(const float* row) {
+    // Trace's ray first: its direction's largest component in [0.5, 1) (scaledRay), so its
+    // length lies in [0.5, sqrt 3) and normalising cannot overflow or underflow, as it did in
+    // float on the direction as given (|d| > 1.84e19 squared is +inf: a miss with NaN points).
+    int e = 0;
+    const Ray scaled = scaledRay(row, e);
+    const double len =
+        std::sqrt(double(scaled.dir.x) * scaled.dir.x + double(scaled.dir.y) * scaled.dir.y +
+                  double(scaled.dir.z) * scaled.dir.z);
+    Ray ray;
+    ray.org = scaled.org;
+    ray.dir = {float(scaled.dir.x / len), float(scaled.dir.y / len), float(scaled.dir.z / len)};
+    // t on the scaled ray times its length is a distance; past float range it is +inf, where
+    // trace's scaled tmin and tmax are too large for any hit as well.
+    auto distance = [len](float t) {
+        const double d = double(t) * len;
+        return d > double(FLT_MAX) ? INFINITY : float(d);
+    };
+    ray.tmin = distance(scaled.tmin);
+    ray.tmax = distance(scaled.tmax);
+    return ray;
+}
+
 Explanation explainRay(const BuiltScene& bs, const FrameParams& frame, Vec3 origin, Vec3 dir) {
-    if (!isFinite(origin) || !isFinite(dir) || !(length(dir) > 0.0f))
-        throw TeachError("--ray needs a finite origin and a finite, non-zero direction");
+    const float row[8] = {origin.x, origin.y, origin.z, dir.x, dir.y, dir.z, 0.0f, INFINITY};
+    return explainRay(bs, frame, row);
+}
+
+Explanation explainRay(const BuiltScene& bs, const FrameParams& frame, const float* row) {
+    const std::string problem = rayRowProblem(row);
+    if (!problem.empty()) throw TeachError("--ray: " + problem);
     Explanation e = start(bs);
     e.pixelMode = false;
     e.light = frame.shading.light;
-    const Ray ray = {origin, normalize(dir), 0.0f, INFINITY};
+    const Ray ray = explainedRay(row);
     StepRecorder primaryRec, shadowRec;
     TraceCost cost = {0, 0};
     Hit hit = missHit();
@@ -543,8 +573,8 @@ std::string explainText(const Explanation& e) {
                ": the camera ray through its centre, then its shadow ray\n";
     else
         out +=
-            "the ray given by --ray (direction normalised, so t is a distance), then its "
-            "shadow ray\n";
+            "the ray given by --ray (direction normalised, tmin and tmax scaled with it, so t is "
+            "a distance), then its shadow ray\n";
     out +=
         "keys: Morton keys in octal; 1 is the root, each further digit an octant (x + 2y + "
         "4z)\n\n";

@@ -114,9 +114,16 @@ void checkPixelInImage(int x, int y, int width, int height);
 // TeachError for a pixel outside the image, and when the recorded steps do not add up to the
 // kernel's cost (a layout that does not report all its steps: never explained wrongly).
 Explanation explainPixel(const BuiltScene& bs, const FrameParams& frame, int x, int y);
-// A user's ray (origin, unit direction, t from 0): its closest hit, then the kernel's shadow
-// query (shadowQuery, anyHit) towards frame.shading.light when it hits.
+// A user's ray as a row of a ray file (ox oy oz dx dy dz tmin tmax, core/io/ray_file.h): its
+// closest hit, then the kernel's shadow query (shadowQuery, anyHit) towards frame.shading.light
+// when it hits. The row must pass the ray file's rule (rayRowProblem; TeachError naming --ray
+// and the rule otherwise). The ray traced is trace's (scaledRay, core/render/kernel.h) with its
+// direction normalised and tmin, tmax scaled to match, so every t explained is a distance.
+Explanation explainRay(const BuiltScene& bs, const FrameParams& frame, const float* row);
+// The same for a ray from `origin` along `dir` with t from 0 to +inf.
 Explanation explainRay(const BuiltScene& bs, const FrameParams& frame, Vec3 origin, Vec3 dir);
+// The ray explainRay traces for a row that passes the rule.
+Ray explainedRay(const float* row);
 
 // Throws TeachError unless the recorded steps add up to the kernel's cost (e.cost): box tests
 // to nodesVisited, primitive tests to primsTested. explainPixel and explainRay call it, so an

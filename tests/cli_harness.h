@@ -89,6 +89,9 @@ struct RunResult {
     int status = -1;  // the exit status; -1 when the process did not exit normally
     int signal = 0;   // when a signal ended it
     double seconds = 0;
+    // The process's peak resident memory (wait4's ru_maxrss), for tests of what a command
+    // keeps in memory at once: a copy of a large array shows as its size.
+    uint64_t peakRssBytes = 0;
     std::string out, err;
 };
 
@@ -187,19 +190,22 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
         return r;
     }
     int status = 0;
+    struct rusage usage;
+    std::memset(&usage, 0, sizeof usage);
     for (;;) {
-        const pid_t done = waitpid(pid, &status, WNOHANG);
+        const pid_t done = wait4(pid, &status, WNOHANG, &usage);
         r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (done == pid) break;
         if (r.seconds > opt.timeoutSeconds) {
             kill(pid, SIGKILL);
-            waitpid(pid, &status, 0);
+            wait4(pid, &status, 0, &usage);
             r.timedOut = true;
             break;
         }
         if (opt.whileRunning) opt.whileRunning(pid, r.seconds);
         std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
+    r.peakRssBytes = uint64_t(usage.ru_maxrss) * 1024;  // KiB on Linux
     if (!r.timedOut && WIFEXITED(status)) r.status = WEXITSTATUS(status);
     if (!r.timedOut && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
     r.out = readFile(outPath);

@@ -1,7 +1,9 @@
 #include "validation/validate.h"
 
+#include <algorithm>
 #include <chrono>
 
+#include "core/system/resources.h"
 #include "cpu_ref/embree_backend.h"
 #include "validation/checks/check.h"
 
@@ -52,6 +54,17 @@ bool ValidationReport::passes() const {
     for (const SceneCheck* c : sceneChecks())
         if (!c->result(*this).pass) return false;
     return true;
+}
+
+uint64_t validatePeakBytes(const ValidateOptions& o, size_t tracers) {
+    const uint64_t pixels =
+        uint64_t(std::max(o.camera.width, 0)) * uint64_t(std::max(o.camera.height, 0));
+    const uint64_t views = o.lightInside ? 2 : 1;
+    // FilmValidation keeps, per pixel, a primary and a shadow class and a float |dt|.
+    const uint64_t keptPerPixel = 2 * sizeof(uint8_t) + sizeof(float);
+    const uint64_t perPixel = views * (2 * kFilmBytesPerPixel + uint64_t(tracers) * keptPerPixel);
+    const uint64_t perRay = 8 * sizeof(float) + 2 * (sizeof(float) + sizeof(int32_t));
+    return saturatingAdd(saturatingMul(pixels, perPixel), saturatingMul(o.rays, perRay));
 }
 
 ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,

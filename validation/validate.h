@@ -92,6 +92,12 @@ struct ValidationReport : JudgedScene {
     bool complete() const;  // nothing left unverified by a recheck cap
 };
 
+// About the most memory validateScene holds at once for `tracers` tracers, beyond the scene and
+// its layouts: the reference's Films and one run's (each view), every run's per-pixel classes
+// and |dt| (kept for the diff image), the seeded rays and their answers (the reference's and
+// one run's). `octrace validate` checks it against the machine before rendering.
+uint64_t validatePeakBytes(const ValidateOptions& o, size_t tracers);
+
 // Validates every tracer against Embree on `scene`. `canonical` (may be null) is the octree the
 // layouts were converted from, for the replication check. Throws on unusable options.
 ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnderTest>& tracers,

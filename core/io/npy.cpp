@@ -123,9 +123,20 @@ std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint6
     return bytes;
 }
 
+void stageNpy(OutputSet& out, const std::string& path, const std::string& descr,
+              const std::vector<uint64_t>& shape, const void* data, size_t elementSize) {
+    size_t dataBytes = 0;
+    const std::string header = checkedHeader(descr, shape, elementSize, dataBytes);
+    std::vector<uint8_t> preamble(10 + header.size());
+    writePreamble(preamble.data(), header);
+    out.stage(path, {{preamble.data(), preamble.size()}, {data, dataBytes}});
+}
+
 void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
               const void* data, size_t elementSize) {
-    writeFileAtomic(path, encodeNpy(descr, shape, data, elementSize));
+    OutputSet out;
+    stageNpy(out, path, descr, shape, data, elementSize);
+    out.commit();
 }
 
 NpyArray readNpy(const std::string& path, const std::string& what,

@@ -42,7 +42,13 @@ private:
 std::vector<uint8_t> encodeNpy(const std::string& descr, const std::vector<uint64_t>& shape,
                                const void* data, size_t elementSize);
 
-// Writes atomically (output_file.h).
+// Stages the file in `out` from the caller's data as it lies: the preamble and header, then
+// `data` itself (no encoded copy: a ray file of 8.6 GB needs no second 8.6 GB). `data` must
+// stay alive until the file is staged (stage writes it at once).
+void stageNpy(OutputSet& out, const std::string& path, const std::string& descr,
+              const std::vector<uint64_t>& shape, const void* data, size_t elementSize);
+
+// Writes atomically (output_file.h), streamed as stageNpy.
 void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
               const void* data, size_t elementSize);
 

@@ -240,11 +240,12 @@ void refuseSpecialTarget(const std::string& path) {
                   "name a regular file");
 }
 
-// Writes bytes to the open temporary t and closes it; on failure removes it and throws naming
-// the target path.
-void writeTemp(const std::string& path, Temp& t, const void* data, size_t bytes) {
+// Writes the pieces to the open temporary t and closes it; on failure removes it and throws
+// naming the target path.
+void writeTemp(const std::string& path, Temp& t, const std::vector<OutputSet::Piece>& pieces) {
     int err = 0;
-    bool ok = writeAll(t.fd, data, bytes, err);
+    bool ok = true;
+    for (const OutputSet::Piece& p : pieces) ok = ok && writeAll(t.fd, p.data, p.bytes, err);
     const int fd = t.fd;
     t.fd = -1;
     if (::close(fd) != 0 && ok) {  // NFS reports a failed write at close
@@ -471,6 +472,10 @@ OutputSet::~OutputSet() {
 }
 
 void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
+    stage(path, std::vector<Piece>{{data, bytes}});
+}
+
+void OutputSet::stage(const std::string& path, const std::vector<Piece>& pieces) {
     const FileId id = identify(path);
     for (const Staged& s : staged_)
         if (sameFile(identify(s.path), id))
@@ -479,7 +484,7 @@ void OutputSet::stage(const std::string& path, const void* data, size_t bytes) {
     refuseSpecialTarget(path);
     Temp t;
     createTemp(path, t);
-    writeTemp(path, t, data, bytes);
+    writeTemp(path, t, pieces);
     staged_.push_back({path, t.path, t.slot});
 }
 

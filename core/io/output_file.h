@@ -45,6 +45,13 @@ public:
     void stage(const std::string& path, const std::vector<uint8_t>& bytes) {
         stage(path, bytes.data(), bytes.size());
     }
+    // One file from several buffers one after another (a header, then the caller's data), so
+    // that a large array is written from where it lies, never copied behind a header first.
+    struct Piece {
+        const void* data;
+        size_t bytes;
+    };
+    void stage(const std::string& path, const std::vector<Piece>& pieces);
     void commit();
 
 private:

@@ -7,6 +7,7 @@
 #include "core/geometry/tri_box.h"
 #include "core/octree/morton.h"
 #include "core/octree/octree.h"
+#include "core/system/resources.h"
 
 namespace oct {
 namespace {
@@ -86,6 +87,45 @@ OctreeNode makeNode(const PendingNode& p, NodeType type) {
     n.type = static_cast<uint8_t>(type);
     n.depth = static_cast<uint8_t>(p.depth);
     return n;
+}
+
+// What one more node of the next level costs while that level is built, for the memory check:
+// its pending record (PendingNode, in an array reserved once) and the heap block of its list
+// (at least 32 bytes). Its slot in its parent's children is counted with the parent.
+constexpr uint64_t kBuildBytesPerNode = sizeof(PendingNode) + 32;
+// A reference in a child's list: the list grows by doubling, so up to twice its size.
+constexpr uint64_t kBuildBytesPerReference = 2 * sizeof(uint32_t);
+
+// The new block a vector allocates to hold `needed` elements (it doubles), the old one still
+// held while the elements move: 0 when its capacity suffices.
+template <class T>
+uint64_t growthBytes(const std::vector<T>& v, uint64_t needed) {
+    if (needed <= v.capacity()) return 0;
+    return std::max<uint64_t>(needed, 2 * uint64_t(v.capacity())) * sizeof(T);
+}
+
+// The next level's name in messages: "octree of 'quad.obj' at depth 17 (8388608 more nodes".
+std::string levelText(const Scene& scene, int depth, uint64_t nodes) {
+    return "octree of '" + scene.name + "' at depth " + std::to_string(depth) + " (" +
+           std::to_string(nodes) + " more nodes";
+}
+
+// Refuses the next level when the tree would pass the node budget with it, or when storing
+// this level (`storeBytes`) and making the next level's nodes need more memory than `left`;
+// returns the bytes left for the next level's references.
+uint64_t checkNextLevel(const Scene& scene, const BuildParams& params, uint64_t nodes,
+                        uint64_t nextNodes, int nextDepth, uint64_t storeBytes,
+                        const MemoryLimit& left) {
+    if (nodes + nextNodes > params.maxNodes)
+        throw OctreeError("octree of '" + scene.name + "' needs more than " +
+                          std::to_string(params.maxNodes) + " nodes (the node budget) at depth " +
+                          std::to_string(nextDepth) + ", " + std::to_string(nodes + nextNodes) +
+                          " with it: lower --max-depth, raise --max-prims, or raise --node-budget");
+    const uint64_t bytes = storeBytes + nextNodes * kBuildBytesPerNode;
+    const std::string why = memoryShortfall(bytes, levelText(scene, nextDepth, nextNodes) + ")",
+                                            "lower --max-depth or raise --max-prims", left);
+    if (!why.empty()) throw OctreeError(why);
+    return left.bytes - bytes;
 }
 
 void checkParams(const Scene& scene, const BuildParams& params) {
@@ -185,10 +225,30 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
                                 p.depth < tree.effectiveMaxDepth &&
                                 !inseparable(scene, p.prims, p.box);
         }
-        std::vector<std::array<std::vector<uint32_t>, 8>> kids(level.size());
-        const uint64_t cap = params.maxReferences, stored = tree.primIndices.size();
+        // The next level's nodes against the node budget and the memory left, before any of
+        // its lists is made; then its references against what memory remains, as they grow.
+        uint64_t splitCount = 0, leafRefs = 0;
+        for (size_t n = 0; n < level.size(); ++n) {
+            splitCount += splits[n];
+            if (!splits[n]) leafRefs += level[n].prims.size();
+        }
+        const int nextDepth = level[0].depth + 1;
+        const uint64_t stored = tree.nodes.size() + level.size();
+        using ChildLists = std::array<std::vector<uint32_t>, 8>;
+        const uint64_t storeBytes =
+            growthBytes(tree.nodes, stored) + growthBytes(tree.firstChild, stored) +
+            growthBytes(tree.primIndices, tree.primIndices.size() + leafRefs) +
+            level.size() * sizeof(ChildLists);
+        const MemoryLimit left = splitCount > 0 ? memoryLimit() : MemoryLimit{};
+        const uint64_t bytesLeft = splitCount == 0
+                                       ? 0
+                                       : checkNextLevel(scene, params, stored, 8 * splitCount,
+                                                        nextDepth, storeBytes, left);
+        const uint64_t refsFit = bytesLeft / kBuildBytesPerReference;
+        std::vector<ChildLists> kids(level.size());
+        const uint64_t cap = params.maxReferences, storedRefs = tree.primIndices.size();
         uint64_t pendingRefs = 0;
-        bool overCap = false;
+        bool overCap = false, overMemory = false;
 #pragma omp parallel for schedule(dynamic, 1)
         for (int64_t job = 0; job < 8 * count; ++job) {
             const size_t n = size_t(job / 8), i = size_t(job % 8);
@@ -202,11 +262,21 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
 #pragma omp atomic capture
             total = pendingRefs += kids[n][i].size();
             // Large primitives replicate into most nodes: refuse before memory runs out.
-            if (total + stored > cap) {
+            if (total + storedRefs > cap || total > refsFit) {
+                if (total > refsFit) {
+#pragma omp atomic write
+                    overMemory = true;
+                }
 #pragma omp atomic write
                 overCap = true;
             }
         }
+        if (overMemory && pendingRefs + storedRefs <= cap)
+            throw OctreeError(memoryShortfall(
+                (left.bytes - bytesLeft) + pendingRefs * kBuildBytesPerReference,
+                levelText(scene, nextDepth, 8 * splitCount) + ", " + std::to_string(pendingRefs) +
+                    " more primitive references so far)",
+                "lower --max-depth or raise --max-prims", left));
         if (overCap)
             throw OctreeError("octree of '" + scene.name + "' needs more than " +
                               std::to_string(params.maxReferences) + " primitive references (" +
@@ -215,6 +285,7 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
 
         // Phase 2, in order: records, leaf lists and the next level, breadth first.
         std::vector<PendingNode> next;
+        next.reserve(8 * splitCount);  // its size is known: no growth copy (the check counted it)
         for (size_t n = 0; n < level.size(); ++n) {
             PendingNode& p = level[n];
             if (splits[n]) {

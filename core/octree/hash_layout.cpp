@@ -6,6 +6,8 @@
 #include <new>
 #include <string>
 
+#include "core/system/resources.h"
+
 namespace oct {
 namespace {
 
@@ -70,6 +72,10 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
             ++h.growSteps;
         }
         h.bucketCount = m;
+        const std::string why =
+            memoryShortfall(m * slotBytes, "the hash octree (m = " + std::to_string(m) + ")",
+                            "lower --max-depth or lower --hash-budget");
+        if (!why.empty()) throw OctreeError(why);
         h.slots.assign(m * B, OctreeNode{});  // key 0 marks an unused slot
     } catch (const std::bad_alloc&) {
         throw OctreeError("hash octree: out of memory allocating m = " + std::to_string(m) +

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/octree/morton.h"
+#include "core/system/resources.h"
 
 namespace oct {
 
@@ -41,11 +42,6 @@ struct LinearArrays {
     LinearOctree lin;
 };
 
-uint64_t saturatingAdd(uint64_t a, uint64_t b) {
-    return a > std::numeric_limits<uint64_t>::max() - b ? std::numeric_limits<uint64_t>::max()
-                                                        : a + b;
-}
-
 }  // namespace
 
 LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
@@ -54,6 +50,12 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
         throw OctreeError("the linear octree of depth " + std::to_string(tree.depth) + " needs " +
                           mibText(bytes) + ", over the budget of " + mibText(budgetBytes) +
                           ": lower --max-depth, raise --max-prims, or raise --linear-budget");
+    // Within the budget but perhaps not within the machine (the budget goes to 16 TiB): the
+    // array is filled at once, so past the memory left it would be the OOM killer's, not ours.
+    const std::string why =
+        memoryShortfall(bytes, "the linear octree of depth " + std::to_string(tree.depth),
+                        "lower --max-depth, raise --max-prims, or lower --linear-budget");
+    if (!why.empty()) throw OctreeError(why);
     LinearOctree lin;
     try {
         lin.nodes.assign(linearNodeCount(tree.depth), invalidNode());

@@ -28,6 +28,12 @@ struct BuildParams {
     // Leaf lists plus the level being built may hold at most this many references (2^30: 4 GiB
     // of indices); the build is refused while building the level that would exceed it.
     uint64_t maxReferences = uint64_t(1) << 30;
+    // The tree may hold at most this many nodes (--node-budget); the build is refused while
+    // building the level that would pass it, and also where that level's memory is more than
+    // the machine has left (core/system/resources.h). Primitives that no split separates, such
+    // as two triangles sharing an edge under --max-prims 1, split every cell along the edge
+    // down to maxDepth, doubling the cells each level: 100 M nodes at depth 21.
+    uint64_t maxNodes = kDefaultNodeBudget;
 };
 
 struct Octree {

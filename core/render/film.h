@@ -28,6 +28,9 @@ struct FilmView {
 };
 
 // Owns the arrays a FilmView points to (host memory).
+// A Film's bytes per pixel: rgb, t, prim, nodes, primsTested, shadow (for memory estimates).
+constexpr uint64_t kFilmBytesPerPixel = 3 + 4 + 4 + 4 + 4 + 1;
+
 struct Film {
     int width = 0, height = 0;
     std::vector<uint8_t> rgb;

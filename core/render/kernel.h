@@ -156,34 +156,43 @@ OCT_HD inline float powerOfTwo(int k) {  // 2^k, k in [-126, 127]
     return f;
 }
 
-template <class Accel>
-OCT_HD inline void traceRayAt(uint64_t i, const Accel& accel, RayBatchView batch) {
-    const float* r = batch.rays + 8 * i;
+// The ray traceRayAt traces for row r of a ray set (the scaling above); `e` receives the
+// exponent, so that a t found on it is unscaledT(t, e) in the units of the row's direction.
+// `octrace explain --ray` starts from the same ray, so it explains what trace traced.
+OCT_HD inline Ray scaledRay(const float* r, int& e) {
     const float largest = fmaxf(fabsf(r[3]), fmaxf(fabsf(r[4]), fabsf(r[5])));
     uint32_t bits;
     memcpy(&bits, &largest, sizeof bits);
     const int biased = int((bits >> 23) & 0xffu);  // largest = 1.m * 2^(biased - 127)
-    const int e = biased - 126;                    // frexpf's exponent: mantissa in [0.5, 1)
+    e = biased - 126;                              // frexpf's exponent: mantissa in [0.5, 1)
     Ray ray;
     ray.org = {r[0], r[1], r[2]};
-    TraceCost cost = {0, 0};
     if (e >= -120 && e <= 120) {
         const float down = powerOfTwo(-e), up = powerOfTwo(e);
         ray.dir = {r[3] * down, r[4] * down, r[5] * down};
         ray.tmin = r[6] * up;
         ray.tmax = r[7] * up;
-        const Hit hit = closestHit(accel, ray, cost);
-        batch.t[i] = hit.t * down;
-        batch.prim[i] = hit.prim;
-        return;
+        return ray;
     }
-    int e2 = 0;
-    frexpf(largest, &e2);
-    ray.dir = {ldexpf(r[3], -e2), ldexpf(r[4], -e2), ldexpf(r[5], -e2)};
-    ray.tmin = ldexpf(r[6], e2);
-    ray.tmax = ldexpf(r[7], e2);
+    frexpf(largest, &e);
+    ray.dir = {ldexpf(r[3], -e), ldexpf(r[4], -e), ldexpf(r[5], -e)};
+    ray.tmin = ldexpf(r[6], e);
+    ray.tmax = ldexpf(r[7], e);
+    return ray;
+}
+
+// t on scaledRay's ray, back in the units of the row's direction.
+OCT_HD inline float unscaledT(float t, int e) {
+    return e >= -120 && e <= 120 ? t * powerOfTwo(-e) : ldexpf(t, -e);
+}
+
+template <class Accel>
+OCT_HD inline void traceRayAt(uint64_t i, const Accel& accel, RayBatchView batch) {
+    int e = 0;
+    const Ray ray = scaledRay(batch.rays + 8 * i, e);
+    TraceCost cost = {0, 0};
     const Hit hit = closestHit(accel, ray, cost);
-    batch.t[i] = ldexpf(hit.t, -e2);
+    batch.t[i] = unscaledT(hit.t, e);
     batch.prim[i] = hit.prim;
 }
 

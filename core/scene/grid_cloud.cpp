@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include "core/system/resources.h"
+
 namespace oct {
 
 int gridCloudDepth(uint32_t n) {
@@ -51,9 +53,16 @@ Sphere cellSphere(uint32_t cell, int depth) {
 
 }  // namespace
 
+uint64_t gridCloudBytes(uint32_t n) {
+    const uint64_t cells = uint64_t{1} << (3 * gridCloudDepth(n));
+    return cells * sizeof(uint32_t) + uint64_t(n) * (sizeof(uint32_t) + sizeof(Sphere));
+}
+
 Scene makeGridCloud(uint32_t n, uint64_t seed) {
     const std::string spec = "grid:" + std::to_string(n) + ":" + std::to_string(seed);
     const int depth = gridCloudDepth(n);
+    const std::string why = memoryShortfall(gridCloudBytes(n), spec, "use fewer points");
+    if (!why.empty()) throw SceneError(why);
     Scene scene;
     scene.name = spec;
     scene.kind = PrimKind::Spheres;

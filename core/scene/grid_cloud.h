@@ -31,8 +31,13 @@ int gridCloudDepth(uint32_t n);
 // The N chosen cell indices in order of selection (the shuffle above), for depth `depth`.
 std::vector<uint32_t> chooseGridCells(uint32_t n, int depth, uint64_t seed);
 
+// The memory makeGridCloud holds at once for N points: the slot array of every cell (4 bytes
+// each, up to 8 N of them), the chosen cells and the spheres.
+uint64_t gridCloudBytes(uint32_t n);
+
 // Scene with kind Spheres, name "grid:N:seed", report.format "grid", domain [0,1]^3 and
-// gridDepth D. Throws SceneError for N = 0, too large an N, or when memory runs out.
+// gridDepth D. Throws SceneError for N = 0, too large an N, or one needing more memory than
+// the machine has left (gridCloudBytes, core/system/resources.h: refused with the figure).
 Scene makeGridCloud(uint32_t n, uint64_t seed);
 
 }  // namespace oct

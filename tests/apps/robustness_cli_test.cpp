@@ -274,5 +274,155 @@ TEST_F(Robustness, OutOfMemoryAdviceFitsTheCommand) {
 #endif
 }
 
+// --- work without bounds (item: hostile input, third round) ----------------------------------
+
+// `rays --size 16384x16384` needed about 17 GB (the rows, a growth copy, an encoded copy) and
+// died in bad_alloc after seconds of work. Its memory is estimated before a row is drawn and
+// refused with the figure, naming rays' own options only.
+TEST_F(Robustness, RaysTooLargeForMemoryAreRefusedWithTheFigure) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#else
+    RunOptions opt;
+    opt.addressSpaceLimit = uint64_t(2) << 30;
+    opt.timeoutSeconds = 60;
+    RunResult r = octtest::runOctrace(
+        {"rays", kMeshes + "/teapot.obj", "--size", "16384x16384", "--out", path("r.npy")},
+        root_->path() / "capture", opt);
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("--size 16384x16384"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("GiB of memory"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("ulimit -v"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("--max-depth"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("--max-prims"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("r.npy")));
+#endif
+}
+
+// The rays are written from where they lie: the camera set of 2048x2048 (4.2 M rows, 134 MB)
+// is held once, not also as a join copy or behind an encoded .npy copy (each showed as another
+// 134 MB of peak memory).
+TEST_F(Robustness, RaysAreWrittenWithoutACopyOfThem) {
+    auto peak = [&](const std::string& size) {
+        RunResult r = run({"rays", kMeshes + "/teapot.obj", "--set", "camera", "--size", size,
+                           "--out", path("r.npy")});
+        EXPECT_EQ(r.status, 0) << show(r);
+        return double(r.peakRssBytes);
+    };
+    const double base = peak("8x8");
+    const double rows = 2048.0 * 2048.0 * 32.0;
+    const double extra = peak("2048x2048") - base;
+    EXPECT_GT(extra, 0.9 * rows);  // the measure sees the rows themselves
+    EXPECT_LT(extra, 1.4 * rows) << "a copy of the rays was held at once";
+}
+
+// `info quad.obj --max-depth 21 --max-prims 1` (two triangles sharing a diagonal) built cells
+// along the diagonal down to depth 21: 48 s and 6 GB, then bad_alloc. The builder's node
+// budget (--node-budget) and its memory check refuse the level that would pass them, naming the
+// figure and the options that shrink the tree.
+TEST_F(Robustness, OctreeNodesAreBoundedWhileBuilding) {
+    ASSERT_TRUE(octtest::writeFile(path("quad.obj"),
+                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+    RunResult r = run({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1",
+                       "--node-budget", "200000"});
+    EXPECT_TRUE(isOneLineError(r));
+    for (const char* says :
+         {"more than 200000 nodes", "--node-budget", "--max-depth", "--max-prims"})
+        EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+#if !defined(__SANITIZE_ADDRESS__)
+    // Under a memory limit the default budget is not reached first: the memory check refuses.
+    RunOptions opt;
+    opt.addressSpaceLimit = uint64_t(1) << 30;
+    opt.timeoutSeconds = 60;
+    r = octtest::runOctrace({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1"},
+                            root_->path() / "capture", opt);
+    EXPECT_TRUE(isOneLineError(r));
+    for (const char* says : {"nodes", "of memory", "ulimit -v", "--max-depth", "--max-prims"})
+        EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("bad_alloc"), std::string::npos) << r.err;
+#endif
+}
+
+// `--threads 4096` under a memory limit ended in libgomp's "Thread creation failed" (an abort,
+// no octrace line). --threads is bounded by the machine: at most 8 per core online.
+TEST_F(Robustness, ThreadsBeyondTheMachineAreRefusedWithTheBound) {
+    const int most = 8 * int(sysconf(_SC_NPROCESSORS_ONLN));
+    rays("one.npy", kGoodRay);
+    auto traceWith = [&](int threads, uint64_t addressSpace) {
+        std::vector<std::string> args = trace(kCube, path("one.npy"), "cpu");
+        args.insert(args.end(), {"--threads", std::to_string(threads)});
+        RunOptions opt;
+        opt.timeoutSeconds = 30;
+        opt.addressSpaceLimit = addressSpace;
+        return octtest::runOctrace(args, root_->path() / "capture", opt);
+    };
+    RunResult r = traceWith(most + 1, 0);
+    EXPECT_TRUE(isOneLineError(r));
+    EXPECT_NE(r.err.find("--threads: " + std::to_string(most + 1) + " is not in [1, " +
+                         std::to_string(most) + "]"),
+              std::string::npos)
+        << r.err;
+    r = traceWith(most, 0);
+    EXPECT_EQ(r.status, 0) << show(r);
+#if !defined(__SANITIZE_ADDRESS__)
+    if (most < 4096) {
+        r = traceWith(4096, uint64_t(512) << 20);
+        EXPECT_TRUE(isOneLineError(r));
+        EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
+    }
+#endif
+}
+
+// A ray file of `rows` rows whose data are a hole (a sparse file: no disk, zeros when read):
+// the reader's size checks pass and the rows would be refused only once read.
+void sparseRayFile(const std::string& file, uint64_t rows) {
+    const std::string header =
+        "{'descr': '<f4', 'fortran_order': False, 'shape': (" + std::to_string(rows) + ", 8), }";
+    std::string dict = header;
+    dict.append((64 - (10 + dict.size() + 1) % 64) % 64, ' ');
+    dict.push_back('\n');
+    std::string bytes("\x93NUMPY\x01\x00", 8);
+    bytes.push_back(char(dict.size() & 0xff));
+    bytes.push_back(char(dict.size() >> 8));
+    bytes += dict;
+    ASSERT_TRUE(octtest::writeFile(file, bytes));
+    fs::resize_file(file, bytes.size() + rows * 32);
+}
+
+// Every command that holds a user-sized array estimates it against the machine before
+// allocating it and refuses with the figure: before, each of these ended in a bare bad_alloc
+// (or, for validate and bench, minutes of work first).
+TEST_F(Robustness, ArraysTooLargeForMemoryAreRefusedWithTheFigure) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#else
+    sparseRayFile(path("huge.npy"), uint64_t(64) << 20);  // 2 GiB of rows
+    struct Case {
+        std::vector<std::string> args;
+        const char* names;  // the option or input whose size is refused
+    };
+    const std::vector<Case> cases = {
+        {{"render", kCube, "--size", "16384x16384", "--out", path("o.png")}, "--size 16384x16384"},
+        {trace(kCube, path("huge.npy"), "cpu"), "67108864 rays"},
+        {{"certify", kCube, "--rays", path("huge.npy"), "--hits", path("hits")}, "67108864 rays"},
+        {{"info", "grid:1000000000"}, "grid:1000000000"},
+        {{"bench", "--clouds", "10", "--meshes", "none", "--backends", "cpu", "--size",
+          "16384x16384", "--repeats", "1", "--warmup", "0", "--no-progress", "--out",
+          path("bench")},
+         "--size 16384x16384"},
+    };
+    for (const Case& c : cases) {
+        RunOptions opt;
+        opt.addressSpaceLimit = uint64_t(2) << 30;
+        opt.timeoutSeconds = 60;
+        const RunResult r = octtest::runOctrace(c.args, root_->path() / "capture", opt);
+        SCOPED_TRACE(c.args[0] + " " + c.names);
+        EXPECT_TRUE(isOneLineError(r));
+        for (const char* says : {c.names, "of memory", "ulimit -v"})
+            EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+    }
+#endif
+}
+
 }  // namespace
 }  // namespace oct

@@ -123,5 +123,33 @@ TEST(BuilderSeparation, ReferenceCapRefusesWhileBuilding) {
     EXPECT_GT(buildOctree(s, p).referenceCount(), 20000u);  // the cap was what refused it
 }
 
+// Two triangles sharing a diagonal (a quad): with --max-prims 1 every cell the diagonal touches
+// holds both and splits to --max-depth, the cells doubling each level (depth 21: 100 M nodes,
+// 48 s and 6 GB before memory ran out). The node budget refuses the level that would pass it.
+TEST(BuilderSeparation, NodeBudgetRefusesWhileBuilding) {
+    Scene s;
+    s.name = "quad";
+    s.kind = PrimKind::Triangles;
+    s.triangles = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 0, 0}, {1, 1, 0}, {0, 1, 0}}};
+    BuildParams p;
+    p.maxDepth = 21;
+    p.maxPrims = 1;
+    p.maxNodes = 100000;
+    try {
+        buildOctree(s, p);
+        ADD_FAILURE() << "no refusal";
+    } catch (const OctreeError& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("more than 100000 nodes"), std::string::npos) << msg;
+        for (const char* option : {"--max-depth", "--max-prims", "--node-budget"})
+            EXPECT_NE(msg.find(option), std::string::npos) << msg;
+    }
+    p.maxDepth = 10;  // 48777 nodes: within the budget, built as before
+    const Octree t = buildOctree(s, p);
+    EXPECT_LE(t.nodes.size(), p.maxNodes);
+    EXPECT_GT(t.nodes.size(), 40000u);
+    EXPECT_EQ(t.depth, 10);
+}
+
 }  // namespace
 }  // namespace oct

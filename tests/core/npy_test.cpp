@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -101,6 +102,27 @@ TEST_F(NpyFiles, BufferFilledInPlaceEqualsEncodedFile) {
     ASSERT_EQ(b.size(), want.size());
     EXPECT_EQ(std::memcmp(b.bytes(), want.data(), want.size()), 0);
     EXPECT_THROW(NpyBuffer("<f4", {5}, 8), IoError);
+}
+
+// Large arrays are written from the caller's buffer behind a separate header (stageNpy, and
+// writeNpy through it): the file holds the same bytes as encodeNpy's copy.
+TEST_F(NpyFiles, StagedFromTheCallersBufferEqualsEncodedFile) {
+    const int32_t values[6] = {-1, 0, 7, 1 << 30, -5, 42};
+    const std::string staged = (dir_ / "staged.npy").string();
+    OutputSet out;
+    stageNpy(out, staged, "<i4", {3, 2}, values, 4);
+    out.commit();
+    const std::vector<uint8_t> want = encodeNpy("<i4", {3, 2}, values, 4);
+    std::ifstream in(staged, std::ios::binary);
+    const std::string got{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    ASSERT_EQ(got.size(), want.size());
+    EXPECT_EQ(std::memcmp(got.data(), want.data(), want.size()), 0);
+    writeNpy((dir_ / "written.npy").string(), "<i4", {3, 2}, values, 4);
+    const NpyArray back = readNpy((dir_ / "written.npy").string());
+    EXPECT_EQ(back.shape, (std::vector<uint64_t>{3, 2}));
+    EXPECT_EQ(std::memcmp(back.data.data(), values, sizeof values), 0);
+    OutputSet wrong;
+    EXPECT_THROW(stageNpy(wrong, (dir_ / "wrong.npy").string(), "<i4", {3, 2}, values, 8), IoError);
 }
 
 // Rows are checked in parallel; the error names the lowest bad row, as a sequential scan would.

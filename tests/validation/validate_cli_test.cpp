@@ -75,4 +75,40 @@ TEST_F(ValidateCli, RayCountIsBounded) {
     EXPECT_NE(r.err.find("--rays 100000001"), std::string::npos) << r.err;
 }
 
+// `--box-rays 99999999999` just ran (some 10 us a ray: 12 days). Bounded like --rays: at most
+// 1e8, some 17 minutes; beyond, one line naming the bound, at once.
+TEST_F(ValidateCli, BoxRayCountIsBounded) {
+    octtest::TempDir capture("validate_box_rays");
+    octtest::RunOptions opt;
+    opt.timeoutSeconds = 20;
+    for (const char* count : {"99999999999", "100000001"}) {
+        RunResult r = octtest::runOctrace(
+            {"validate", kCube, "--size", "8x8", "--rays", "0", "--box-rays", count},
+            capture.path(), opt);
+        EXPECT_TRUE(octtest::isOneLineError(r)) << count;
+        EXPECT_NE(r.err.find(std::string("--box-rays: ") + count + " is not in [0, 1e+08]"),
+                  std::string::npos)
+            << r.err;
+    }
+}
+
+// The per-pixel check holds a Film per tracer and the reference's (20 bytes a pixel each, twice
+// with the inside view): at 16384x16384 that is more than a small machine has, refused with the
+// figure before anything is rendered.
+TEST_F(ValidateCli, ImageTooLargeForMemoryIsRefusedWithTheFigure) {
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit allows";
+#else
+    octtest::TempDir capture("validate_memory");
+    octtest::RunOptions opt;
+    opt.timeoutSeconds = 60;
+    opt.addressSpaceLimit = uint64_t(2) << 30;
+    RunResult r = octtest::runOctrace({"validate", kCube, "--size", "16384x16384", "--rays", "0"},
+                                      capture.path(), opt);
+    EXPECT_TRUE(octtest::isOneLineError(r));
+    for (const char* says : {"--size 16384x16384", "GiB of memory", "ulimit -v"})
+        EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
+#endif
+}
+
 }  // namespace

@@ -14,6 +14,7 @@
 #include "core/octree/octree.h"
 #include "core/scene/mesh_topology.h"
 #include "core/scene/slivers.h"
+#include "core/system/resources.h"
 #include "validation/policy/double_tracer.h"
 #include "validation/policy/film_compare.h"
 
@@ -585,6 +586,9 @@ void slivers(Context& c, Rng& rng, uint64_t n, RaySet& out) {
 }
 
 void cameraRays(const FrameParams& f, RaySet& out) {
+    // Sized once: growing by doubling would hold the old and the new array at once (1.5 times
+    // the rows at 16384x16384, 8.6 GB of them).
+    out.rays.reserve(out.rays.size() + 8 * uint64_t(f.width) * uint64_t(f.height));
     for (int y = 0; y < f.height; ++y)
         for (int x = 0; x < f.width; ++x) {
             Ray r = primaryRay(f.camera, x, y, f.width, f.height);
@@ -597,6 +601,7 @@ void shadowRays(const Scene& scene, const FrameParams& f, const TraceBatch& refe
     RaySet cam;
     cameraRays(f, cam);
     const uint64_t n = cam.count();
+    out.rays.reserve(out.rays.size() + 8 * n);  // at most a row per camera ray: never regrown
     std::vector<float> t(n);
     std::vector<int32_t> prim(n);
     reference({cam.rays.data(), t.data(), prim.data(), n});
@@ -702,6 +707,31 @@ std::vector<std::string> raySetsUnavailable(const Scene& scene,
     return why;
 }
 
+uint64_t raySetPeakBytes(const RaySetSpec& spec) {
+    const uint64_t rowBytes = 8 * sizeof(float);
+    const uint64_t pixels =
+        uint64_t(std::max(spec.camera.width, 0)) * uint64_t(std::max(spec.camera.height, 0));
+    // A target row also keeps its RayTarget twice (the part's, then the joined set's) and the
+    // ids of its triangles (a fan of a few).
+    const uint64_t targetBytes = 2 * sizeof(RayTarget) + 64;
+    uint64_t parts = 0, temporaries = 0, rows = 0;
+    for (const RaySetDesc* k : spec.sets) {
+        if (!k) continue;
+        uint64_t n = k->seeded ? seededShare(spec, *k) : pixels;
+        parts = saturatingAdd(parts, saturatingMul(n, rowBytes));
+        rows = saturatingAdd(rows, n);
+        if (k->generate == edges || k->generate == vertices || k->generate == slivers)
+            parts = saturatingAdd(parts, saturatingMul(n, targetBytes));
+        // The shadow set traces a camera set of its own first: its rows and the hits' t, prim.
+        if (k->needsReference)
+            temporaries = saturatingAdd(
+                temporaries, saturatingMul(pixels, rowBytes + sizeof(float) + sizeof(int32_t)));
+    }
+    // The sets are drawn at once (in parallel), then joined into one array (one set: moved).
+    const uint64_t joined = spec.sets.size() > 1 ? saturatingMul(rows, rowBytes) : 0;
+    return saturatingAdd(parts, std::max(temporaries, joined));
+}
+
 uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k) {
     uint64_t seeded = 0, index = 0;
     bool found = false;
@@ -784,18 +814,28 @@ RaySet makeRaySet(const Scene& scene, const RaySetSpec& spec, const TraceBatch& 
     RaySet out;
     uint64_t rows = 0;
     for (const RaySet& part : parts) rows += part.count();
-    out.rays.reserve(8 * rows);
+    // One part is the set as it is (moved, not copied); several are joined, each freed once
+    // copied, so that the parts and the whole are not all held at once.
+    const bool single = parts.size() == 1;
+    if (single)
+        out.rays = std::move(parts[0].rays);
+    else
+        out.rays.reserve(8 * rows);
     for (size_t i = 0; i < parts.size(); ++i) {
         RaySet& part = parts[i];
-        const uint64_t begin = out.count();
-        out.rays.insert(out.rays.end(), part.rays.begin(), part.rays.end());
+        const uint64_t begin = single ? 0 : out.count();
+        const uint64_t partRows = single ? rows : part.count();
+        if (!single) {
+            out.rays.insert(out.rays.end(), part.rays.begin(), part.rays.end());
+            std::vector<float>().swap(part.rays);
+        }
         for (RayTarget& t : part.targets) {
             t.row += begin;
             out.targets.push_back(std::move(t));
         }
         out.notes.insert(out.notes.end(), part.notes.begin(), part.notes.end());
         if (part.frame) out.frame = part.frame;
-        out.sets.push_back({spec.sets[i]->name, begin, part.count()});
+        out.sets.push_back({spec.sets[i]->name, begin, partRows});
     }
     out.mesh = c.mesh;
     return out;

@@ -117,6 +117,13 @@ struct RaySetSpec {
     const DoubleTracer* truth = nullptr;
 };
 
+// About the most memory makeRaySet holds at once for `spec`, in bytes: every set's rows while
+// the sets are drawn in parallel (the camera and shadow sets a row per pixel each, the shadow
+// set's own camera rays and hits besides), the targets of edges, vertices and slivers, and the
+// joined array. `octrace rays` checks it against the machine before drawing a row
+// (core/system/resources.h). Saturates instead of overflowing.
+uint64_t raySetPeakBytes(const RaySetSpec& spec);
+
 // The rows of one seeded set's share, as the spec splits count.
 uint64_t seededShare(const RaySetSpec& spec, const RaySetDesc& k);
 

@@ -41,9 +41,9 @@ std::string verdictLeakPath(const std::string& prefix) { return prefix + ".leak.
 void writeVerdictFiles(const std::string& prefix, const VerdictArrays& v) {
     const std::vector<uint64_t> shape = {uint64_t(v.cls.size())};
     OutputSet out;
-    out.stage(verdictClassPath(prefix), encodeNpy("|u1", shape, v.cls.data(), 1));
-    out.stage(verdictReasonsPath(prefix), encodeNpy("<u4", shape, v.reasons.data(), 4));
-    out.stage(verdictLeakPath(prefix), encodeNpy("|u1", shape, v.leak.data(), 1));
+    stageNpy(out, verdictClassPath(prefix), "|u1", shape, v.cls.data(), 1);
+    stageNpy(out, verdictReasonsPath(prefix), "<u4", shape, v.reasons.data(), 4);
+    stageNpy(out, verdictLeakPath(prefix), "|u1", shape, v.leak.data(), 1);
     out.commit();
 }
 

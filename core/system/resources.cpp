@@ -1,0 +1,107 @@
+#include "core/system/resources.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <limits>
+
+namespace oct {
+namespace {
+
+uint64_t physicalMemory() {
+    const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || size <= 0) return std::numeric_limits<uint64_t>::max();  // unknown: no bound
+    return saturatingMul(uint64_t(pages), uint64_t(size));
+}
+
+// The address space the process maps now (VmSize) and what of it is resident (VmRSS), or 0
+// when /proc cannot tell.
+struct Footprint {
+    uint64_t mapped = 0, resident = 0;
+};
+
+Footprint footprint() {
+    Footprint fp;
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f) return fp;
+    unsigned long long size = 0, resident = 0;
+    const bool ok = std::fscanf(f, "%llu %llu", &size, &resident) == 2;
+    std::fclose(f);
+    const long page = sysconf(_SC_PAGE_SIZE);
+    if (!ok || page <= 0) return fp;
+    return {saturatingMul(size, uint64_t(page)), saturatingMul(resident, uint64_t(page))};
+}
+
+uint64_t minus(uint64_t a, uint64_t b) { return a > b ? a - b : 0; }
+
+}  // namespace
+
+uint64_t saturatingMul(uint64_t a, uint64_t b) {
+    if (a != 0 && b > std::numeric_limits<uint64_t>::max() / a)
+        return std::numeric_limits<uint64_t>::max();
+    return a * b;
+}
+
+uint64_t saturatingAdd(uint64_t a, uint64_t b) {
+    return b > std::numeric_limits<uint64_t>::max() - a ? std::numeric_limits<uint64_t>::max()
+                                                        : a + b;
+}
+
+MemoryLimit memoryLimit() {
+    const Footprint fp = footprint();
+    const uint64_t physical = physicalMemory();
+    MemoryLimit m{minus(physical, fp.resident),
+                  "left of the " + bytesText(physical) + " of physical memory"};
+    struct rlimit as;
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) {
+        const uint64_t limit = uint64_t(as.rlim_cur), left = minus(limit, fp.mapped);
+        if (left < m.bytes)
+            m = {left,
+                 "left under the address-space limit of " + bytesText(limit) + " (ulimit -v)"};
+    }
+    return m;
+}
+
+int onlineCores() {
+    const long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? int(n) : 1;
+}
+
+std::string bytesText(uint64_t bytes) {
+    const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+    double v = double(bytes);
+    int u = 0;
+    while (v >= 1024.0 && u < 6) {
+        v /= 1024.0;
+        ++u;
+    }
+    char b[48];
+    if (u == 0)
+        std::snprintf(b, sizeof b, "%llu bytes", (unsigned long long)bytes);
+    else
+        std::snprintf(b, sizeof b,
+                      v < 10    ? "%.2f %s"
+                      : v < 100 ? "%.1f %s"
+                                : "%.0f %s",
+                      v, units[u]);
+    return b;
+}
+
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice) {
+    return memoryShortfall(bytes, what, advice, memoryLimit());
+}
+
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice,
+                            const MemoryLimit& m) {
+    if (bytes <= m.bytes) return "";
+    return what + " needs about " + bytesText(bytes) + " of memory, more than the " +
+           bytesText(m.bytes) + " " + m.source + "; " + advice;
+}
+
+void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice) {
+    const std::string why = memoryShortfall(bytes, what, advice);
+    if (!why.empty()) throw ResourceError(why);
+}
+
+}  // namespace oct

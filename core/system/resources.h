@@ -1,0 +1,56 @@
+// What this machine lends a command: memory and cores. Every count and size option whose work
+// grows with its value is bounded by them (docs/ROBUSTNESS.md, "Work without bounds"): the
+// memory a command needs is estimated before it is allocated and refused with the figure, so
+// that too large a --size or --count is one line at once, not a bad_alloc after minutes (or the
+// kernel's OOM killer, which sends SIGKILL and leaves no line at all).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+namespace oct {
+
+// A request beyond what the machine has: one line naming the need, the limit and what to do.
+class ResourceError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+struct MemoryLimit {
+    uint64_t bytes = 0;  // what the process may still allocate
+    // Where the figure comes from, after "the N": "left of the 23.5 GiB of physical memory",
+    // "left under the address-space limit of 1.00 GiB (ulimit -v)".
+    std::string source;
+};
+
+// What the process may still allocate: physical memory (sysconf(_SC_PHYS_PAGES) *
+// sysconf(_SC_PAGE_SIZE)) less what it holds resident, or, when RLIMIT_AS is set and leaves
+// less, that limit less the address space it maps (/proc/self/statm), which counts against it.
+// Either way the figure is what is left now, so that a check made between two allocations
+// (the builder's, level by level) counts only what comes next. Read on every call: the limit
+// is the process's, and tests lower it.
+MemoryLimit memoryLimit();
+
+// Cores online (sysconf(_SC_NPROCESSORS_ONLN)), at least 1.
+int onlineCores();
+
+// "512 MiB", "8.6 GiB": binary units, three significant digits.
+std::string bytesText(uint64_t bytes);
+
+// "" when `bytes` fit memoryLimit(), else why not: "<what> needs about <bytes> of memory, more
+// than the <limit> <source>; <advice>". `what` names the work and its options ("octrace rays
+// --size 16384x16384 --count 30000"), `advice` what to lower. For callers with an error type
+// of their own (the builder's OctreeError).
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice);
+// The same against a limit read before (what was left when a level began).
+std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice,
+                            const MemoryLimit& limit);
+// The same, thrown as ResourceError.
+void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice);
+
+// a * b, or UINT64_MAX when it overflows: estimates of absurd requests stay absurd, not small.
+uint64_t saturatingMul(uint64_t a, uint64_t b);
+uint64_t saturatingAdd(uint64_t a, uint64_t b);
+
+}  // namespace oct
