@@ -5,6 +5,7 @@
 // And the out-of-memory advice of each command names only options it has.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <regex>
 #include <set>
 
@@ -132,6 +133,75 @@ TEST(NumericOptions, OutOfMemoryAdviceNamesOnlyTheCommandsOptions) {
     const std::string certify = outOfMemoryAdvice(*app.get_subcommand("certify"));
     EXPECT_EQ(certify.find("--max-depth"), std::string::npos) << certify;
     EXPECT_NE(certify.find("--rays"), std::string::npos) << certify;
+}
+
+// What each command is given beside the option under test, so that an accepted value runs a
+// small job (a tiny image, few rays) and only the value can make it large. {} is the folder.
+std::vector<std::string> smallJob(const std::string& command, const std::string& dir) {
+    const std::map<std::string, std::vector<std::string>> jobs = {
+        {"info", {"info", "grid:10"}},
+        {"render", {"render", "grid:10", "--size", "8x8", "--out", dir + "/o.png"}},
+        {"trace", {"trace", "grid:10", "--rays", dir + "/R.npy", "--out", dir + "/T"}},
+        {"validate",
+         {"validate", "grid:10", "--size", "8x8", "--rays", "100", "--box-rays", "100"}},
+        {"bench",
+         {"bench", "--quick", "--clouds", "1k", "--meshes", "none", "--accel", "linear",
+          "--backend", "cpu", "--size", "8x8", "--repeats", "1", "--warmup", "0", "--out",
+          dir + "/bench", "--no-progress"}},
+        {"rays", {"rays", "grid:10", "--count", "10", "--size", "2x2", "--out", dir + "/R2.npy"}},
+        {"certify", {"certify", "grid:10", "--rays", dir + "/R.npy", "--hits", dir + "/H"}},
+        {"explain", {"explain", "grid:10"}},
+    };
+    const auto it = jobs.find(command);
+    return it == jobs.end() ? std::vector<std::string>{command} : it->second;
+}
+
+// The job without `option` and its value (the option under test replaces it).
+std::vector<std::string> without(std::vector<std::string> args, const std::string& option) {
+    for (size_t i = 0; i + 1 < args.size(); ++i)
+        if (args[i] == option) {
+            args.erase(args.begin() + long(i), args.begin() + long(i) + 2);
+            break;
+        }
+    return args;
+}
+
+// 0, a negative and huge values for every numeric option of every command: each is refused with
+// one line (exit 2) or runs to its end in bounded time (a verdict, 0, 1 or 3), never a hang, a
+// signal or a library's message. `validate --box-rays 99999999999` ran for about 12 days.
+TEST(NumericOptions, ZeroNegativeAndHugeAreRefusedOrRunBounded) {
+    octtest::TempDir dir("numeric_bounds");
+    const std::string d = dir.path().string();
+    octtest::RunOptions opt;
+    opt.timeoutSeconds = 60;
+    opt.workingDir = d;
+    ASSERT_EQ(octtest::runOctrace(
+                  {"rays", "grid:10", "--count", "20", "--size", "2x2", "--out", d + "/R.npy"},
+                  dir.path() / "capture", opt)
+                  .status,
+              0);
+    ASSERT_EQ(octtest::runOctrace({"trace", "grid:10", "--rays", d + "/R.npy", "--out", d + "/H"},
+                                  dir.path() / "capture", opt)
+                  .status,
+              0);
+    for (const Command& c : commands(d))
+        for (const std::string& name : c.numeric)
+            for (const char* value : {"0", "-1", "99999999999", "1e300"}) {
+                std::vector<std::string> args = without(smallJob(c.name, d), name);
+                args.push_back(name + "=" + value);
+                SCOPED_TRACE("octrace " + c.name + " " + name + "=" + value);
+                const RunResult r = octtest::runOctrace(args, dir.path() / "capture", opt);
+                ASSERT_FALSE(r.timedOut) << octtest::show(r);
+                EXPECT_EQ(r.signal, 0) << octtest::show(r);
+                if (r.status == kExitError) {
+                    EXPECT_TRUE(octtest::isOneLineError(r));
+                } else {
+                    EXPECT_TRUE(r.status == 0 || r.status == 1 || r.status == 3)
+                        << octtest::show(r);
+                }
+                for (const char* leak : {"terminate", "what()", "Thread creation", "bad_alloc"})
+                    EXPECT_EQ(r.err.find(leak), std::string::npos) << octtest::show(r);
+            }
 }
 
 }  // namespace
