@@ -11,8 +11,6 @@
 // IoError is the expected refusal (nlohmann's parse errors are turned into it by the readers).
 // Anything else is a finding: a crash, a sanitizer report, another exception, a hang
 // (-timeout) or an allocation past -rss_limit_mb / -malloc_limit_mb.
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -24,25 +22,9 @@
 #include "core/io/ray_file.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_manifest.h"
+#include "fuzz/fuzz_files.h"
 
 namespace {
-
-const std::string& scratchDir() {
-    static const std::string dir = [] {
-        const char* tmp = std::getenv("TMPDIR");
-        std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/octrace_fuzz_XXXXXX";
-        if (!mkdtemp(pattern.data())) std::abort();
-        return pattern;
-    }();
-    return dir;
-}
-
-void writeFile(const std::string& path, const uint8_t* data, size_t size) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) std::abort();
-    const bool ok = size == 0 || std::fwrite(data, 1, size, f) == size;
-    if (std::fclose(f) != 0 || !ok) std::abort();
-}
 
 void fuzzRayFile(const std::string& path) {
     const std::vector<float> rays = oct::readRayFile(path);
@@ -62,8 +44,8 @@ void fuzzHitPair(const std::string& dir, const uint8_t* data, size_t size) {
     if (size < 2) return;
     const size_t n = std::min<size_t>(size - 2, data[0] | size_t(data[1]) << 8);
     const std::string prefix = dir + "/P";
-    writeFile(oct::hitTPath(prefix), data + 2, n);
-    writeFile(oct::hitPrimPath(prefix), data + 2 + n, size - 2 - n);
+    fuzz::writeFile(oct::hitTPath(prefix), data + 2, n);
+    fuzz::writeFile(oct::hitPrimPath(prefix), data + 2 + n, size - 2 - n);
     // The row count the t file's bytes suggest (4 bytes a row after a short header), so that
     // the length check is passed as often as it is failed.
     const uint64_t rays = std::min<uint64_t>(n > 128 ? (n - 128) / 4 : n / 4, 1u << 20);
@@ -87,7 +69,7 @@ void fuzzManifest(const std::string& path) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;
-    const std::string& dir = scratchDir();
+    const std::string& dir = fuzz::scratchDir();
     const int kind = data[0] % 4;
     const std::string path = dir + (kind == 3 ? "/R.json" : "/input.npy");
     try {
@@ -95,7 +77,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             fuzzHitPair(dir, data + 1, size - 1);
             return 0;
         }
-        writeFile(path, data + 1, size - 1);
+        fuzz::writeFile(path, data + 1, size - 1);
         if (kind == 0) fuzzRayFile(path);
         if (kind == 1) fuzzNpy(path);
         if (kind == 3) fuzzManifest(path);

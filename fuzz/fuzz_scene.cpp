@@ -9,8 +9,6 @@
 // SceneError and OctreeError are the expected ways to refuse an input. Anything else is a
 // finding: a crash, a sanitizer report, another exception (std::terminate), a hang (-timeout)
 // or an allocation past -rss_limit_mb / -malloc_limit_mb.
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -21,33 +19,13 @@
 #include "core/octree/octree.h"
 #include "core/scene/load_scene.h"
 #include "core/scene/scene_formats.h"
-
-namespace {
-
-const std::string& scratchDir() {
-    static const std::string dir = [] {
-        const char* tmp = std::getenv("TMPDIR");
-        std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/octrace_fuzz_XXXXXX";
-        if (!mkdtemp(pattern.data())) std::abort();
-        return pattern;
-    }();
-    return dir;
-}
-
-bool writeFile(const std::string& path, const uint8_t* data, size_t size) {
-    std::FILE* f = std::fopen(path.c_str(), "wb");
-    if (!f) return false;
-    bool ok = size == 0 || std::fwrite(data, 1, size, f) == size;
-    return std::fclose(f) == 0 && ok;
-}
-
-}  // namespace
+#include "fuzz/fuzz_files.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;
     const std::vector<oct::SceneFormat>& formats = oct::sceneFormats();
-    const std::string path = scratchDir() + "/input." + formats[data[0] % formats.size()].extension;
-    if (!writeFile(path, data + 1, size - 1)) std::abort();
+    const std::string path = fuzz::scratchDir() + "/input." + formats[data[0] % formats.size()].extension;
+    fuzz::writeFile(path, data + 1, size - 1);
     try {
         oct::Scene scene = oct::loadScene(path);
         oct::BuildParams params;
