@@ -45,7 +45,9 @@ std::array<float, 8> parseRay(const std::string& text) {
     std::stringstream in(text);
     for (std::string item; std::getline(in, item, ',');) parts.push_back(item);
     std::array<float, 8> row = {0, 0, 0, 0, 0, 0, 0.0f, INFINITY};
-    bool ok = parts.size() == 6 || parts.size() == 8;
+    // getline drops an empty last item ("...,-1," would pass as six); numpy reads no hex floats.
+    bool ok = (parts.size() == 6 || parts.size() == 8) && text.back() != ',' &&
+              text.find_first_of("xX") == std::string::npos;
     for (size_t i = 0; ok && i < parts.size(); ++i) {
         char* end = nullptr;
         row[i] = std::strtof(parts[i].c_str(), &end);

@@ -62,7 +62,7 @@ void runTrace(const TraceOptions& o) {
     OutputSet out;  // the three files or none
     out.stage(tOut, tFile.bytes(), tFile.size());
     out.stage(primOut, primFile.bytes(), primFile.size());
-    const std::string record = hitRunRecord(o.out, t, prim, n);
+    const std::string record = hitRunRecord(o.out, t, prim, n, out);
     out.stage(runOut, record.data(), record.size());
     out.commit();
     const double writeSeconds = since(t0);

@@ -26,8 +26,8 @@ namespace {
 // Ray sets keep 8 floats per ray plus four answer arrays per tracer: 1e8 rays are about 5 GB,
 // and the per-ray indices stay far below 2^32. More is a typo, refused before any allocation.
 constexpr uint64_t kMaxValidateRays = 100000000;
-// The box-test contract takes some 10 us a ray (GMP rationals, one thread): 1e8 rays are about
-// 17 minutes, a soak; 99999999999 ran for 12 days. The same bound as --rays.
+// The box-test contract checks each ray in exact rational arithmetic on one thread: 1e8 rays are
+// a soak (docs/ROBUSTNESS.md gives the figures). The same bound as --rays.
 constexpr uint64_t kMaxBoxContractRays = 100000000;
 
 struct ValidateCliOptions {
@@ -218,9 +218,10 @@ void registerValidate(CLI::App& app) {
     cmd->add_option("--box-rays", o->boxRays,
                     "Rays of the box-test contract (exact rationals against the kernel's slab "
                     "tests on the octree's boxes, docs/VALIDATION.md); 0 for none, at most 1e8 "
-                    "(some 10 us each)")
+                    "(a soak)")
         ->capture_default_str()
-        ->check(numberIn(0, double(kMaxBoxContractRays), "some 10 us a ray: 1e8 is a soak"));
+        ->check(numberIn(0, double(kMaxBoxContractRays),
+                         "exact arithmetic on one thread: 1e8 is a soak"));
     cmd->add_flag("--table1", o->table1,
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");

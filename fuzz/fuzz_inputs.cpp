@@ -20,9 +20,9 @@
 #include "core/io/npy.h"
 #include "core/io/output_file.h"
 #include "core/io/ray_file.h"
+#include "fuzz/fuzz_files.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_manifest.h"
-#include "fuzz/fuzz_files.h"
 
 namespace {
 

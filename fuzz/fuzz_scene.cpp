@@ -24,7 +24,8 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size < 1) return 0;
     const std::vector<oct::SceneFormat>& formats = oct::sceneFormats();
-    const std::string path = fuzz::scratchDir() + "/input." + formats[data[0] % formats.size()].extension;
+    const std::string path =
+        fuzz::scratchDir() + "/input." + formats[data[0] % formats.size()].extension;
     fuzz::writeFile(path, data + 1, size - 1);
     try {
         oct::Scene scene = oct::loadScene(path);

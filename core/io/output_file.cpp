@@ -404,14 +404,26 @@ bool OutputLock::lockOnceHeld(const std::string& name) {
     struct stat st;
     if (::fstat(fd.get(), &st) != 0 || !S_ISREG(st.st_mode)) return false;  // replaced since
     if (created) {
-        // Best effort: a lock file without the text is merely left behind at the end.
+        // Best effort: without the text, a lock file a SIGKILL left behind is not known for
+        // octrace's and stays (it is still locked, never written).
         [[maybe_unused]] const ssize_t n = ::write(fd.get(), kLockText, sizeof kLockText - 1);
     }
     if (::flock(fd.get(), LOCK_EX | LOCK_NB) != 0) {
-        if (errno == EWOULDBLOCK)
+        const int err = errno;
+        if (created) ::unlink(path_.c_str());  // ours, not yet in the handler's table
+        if (err == EWOULDBLOCK)
             throw IoError("another octrace run is writing '" + name + "' (it holds the lock '" +
                           path_ + "'); wait for it to end, or write elsewhere");
-        throw IoError("cannot lock '" + path_ + "': " + std::strerror(errno));
+        if (err == ENOLCK || err == EOPNOTSUPP || err == ENOSYS) {
+            // A file system without locks (NFS without a lock manager): octrace wrote such
+            // folders before it locked, and still does, saying so once.
+            std::fprintf(stderr,
+                         "octrace: note: cannot lock '%s' (%s); going on without the lock: do "
+                         "not run two octrace commands into this output at once\n",
+                         path_.c_str(), std::strerror(err));
+            return true;
+        }
+        throw IoError("cannot lock '" + path_ + "': " + std::strerror(err));
     }
     struct stat now;
     if (::lstat(path_.c_str(), &now) != 0 || !sameInode(now, st)) return false;
@@ -486,6 +498,17 @@ void OutputSet::stage(const std::string& path, const std::vector<Piece>& pieces)
     createTemp(path, t);
     writeTemp(path, t, pieces);
     staged_.push_back({path, t.path, t.slot});
+}
+
+OutputSet::Stamp OutputSet::stamp(const std::string& path) const {
+    for (const Staged& s : staged_) {
+        if (s.path != path) continue;
+        struct stat st;
+        if (::lstat(s.tmp.c_str(), &st) != 0)
+            throw IoError("cannot read back '" + s.tmp + "': " + std::strerror(errno));
+        return {uint64_t(st.st_ino), int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec};
+    }
+    throw IoError("'" + path + "' is not staged in this set of outputs");
 }
 
 void OutputSet::commit() {

@@ -54,6 +54,14 @@ public:
     void stage(const std::string& path, const std::vector<Piece>& pieces);
     void commit();
 
+    // What a staged file will be once renamed into place (a rename keeps both): its inode and
+    // its modification time in ns since the epoch. Throws IoError for a path not staged.
+    struct Stamp {
+        uint64_t inode = 0;
+        int64_t mtimeNs = 0;
+    };
+    Stamp stamp(const std::string& path) const;
+
 private:
     struct Staged {
         std::string path, tmp;

@@ -74,13 +74,13 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
         h.bucketCount = m;
         const std::string why =
             memoryShortfall(m * slotBytes, "the hash octree (m = " + std::to_string(m) + ")",
-                            "lower --max-depth or lower --hash-budget");
+                            "lower --max-depth, raise --max-prims, or raise --hash-slots");
         if (!why.empty()) throw OctreeError(why);
         h.slots.assign(m * B, OctreeNode{});  // key 0 marks an unused slot
     } catch (const std::bad_alloc&) {
         throw OctreeError("hash octree: out of memory allocating m = " + std::to_string(m) +
                           " buckets (" + mibText(m * slotBytes) +
-                          "): lower --hash-budget or --max-depth");
+                          "): lower --max-depth, raise --max-prims, or raise --hash-slots");
     }
     std::vector<uint32_t> used(m, 0);
     for (const OctreeNode& node : tree.nodes) {

@@ -52,9 +52,9 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
                           ": lower --max-depth, raise --max-prims, or raise --linear-budget");
     // Within the budget but perhaps not within the machine (the budget goes to 16 TiB): the
     // array is filled at once, so past the memory left it would be the OOM killer's, not ours.
-    const std::string why =
-        memoryShortfall(bytes, "the linear octree of depth " + std::to_string(tree.depth),
-                        "lower --max-depth, raise --max-prims, or lower --linear-budget");
+    const std::string why = memoryShortfall(
+        bytes, "the linear octree of depth " + std::to_string(tree.depth),
+        "lower --max-depth or raise --max-prims (the array's size is set by the depth)");
     if (!why.empty()) throw OctreeError(why);
     LinearOctree lin;
     try {

@@ -13,9 +13,9 @@ constexpr int kMaxOctreeDepth = 21;
 constexpr int kTraversalStackSize = 7 * kMaxOctreeDepth + 8;
 
 // The builder's node budget (BuildParams::maxNodes, --node-budget). The default, 2^25 nodes, is
-// 1.5 GiB of 48-byte node records and some 7 GiB while building, above every scene of the
-// benchmark (16 M grid points at --cloud-max-prims 1: 19 M nodes) and a minute or less of work
-// on two cores; the most, 2^31, keeps every node index, a uint32, far from overflowing.
+// 1.5 GiB of 48-byte node records, above every scene of the benchmark (16 M grid points at
+// --cloud-max-prims 1 need 19 M nodes); the most, 2^31, keeps every node index, a uint32, far
+// from overflowing.
 constexpr uint64_t kDefaultNodeBudget = uint64_t(1) << 25;
 constexpr uint64_t kMaxNodeBudget = uint64_t(1) << 31;
 

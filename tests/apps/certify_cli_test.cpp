@@ -222,29 +222,23 @@ TEST_F(CertifyCli, BadHitFilesAreOneLineErrors) {
     EXPECT_NE(r.out.find("distances only"), std::string::npos) << r.out;
 }
 
-// Item: trace renames PREFIX.t.npy and PREFIX.prim.npy one after the other; a second run
-// finishing between the two left t from one run and prim from the other, whole files of the
-// right length that certify judged as one tracer's answers. Forged here: two runs with the same
-// rays (the cube into H, the teapot into G), then one of G's files copied over H's. The record
-// trace writes beside the pair (H.run.json) vouches for H's files: one file it does not vouch
-// for is refused, naming both.
+// `trace` writes PREFIX.t.npy and PREFIX.prim.npy by two renames; a run finishing between the
+// two left t from one run and prim from the other, whole files of the right length that
+// certify judged as one tracer's answers. Forged here as it happens: trace into H (the cube),
+// trace into G (the teapot, same rays), then one of G's files renamed over H's. The record trace
+// writes beside the pair (H.run.json) vouches for H's files, by their data's hash and their
+// identity (inode, size, mtime): one file it vouches for and one it does not is refused.
 TEST_F(CertifyCli, PairMixedFromTwoTraceRunsIsRefused) {
-    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
-    RunResult r = run("trace " + quote(kTeapot) + " --rays " + q("R.npy") + " --out " + q("G") +
-                      " --backend cpu --accel linear --max-depth 5");
-    ASSERT_EQ(r.status, 0) << show(r);
-    ASSERT_NE(readArray<int32_t>("G.prim.npy"), readArray<int32_t>("H.prim.npy"));
-    ASSERT_NE(readArray<float>("G.t.npy"), readArray<float>("H.t.npy"));
-    for (const char* name : {"H.t.npy", "H.prim.npy"})
-        fs::copy_file(path(name), path(std::string(name) + ".kept"));
     for (const char* column : {"prim", "t"}) {
         SCOPED_TRACE(column);
-        for (const char* name : {"H.t.npy", "H.prim.npy"})
-            fs::copy_file(path(std::string(name) + ".kept"), path(name),
-                          fs::copy_options::overwrite_existing);
-        fs::copy_file(path("G." + std::string(column) + ".npy"),
-                      path("H." + std::string(column) + ".npy"),
-                      fs::copy_options::overwrite_existing);
+        ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+        RunResult r = run("trace " + quote(kTeapot) + " --rays " + q("R.npy") + " --out " + q("G") +
+                          " --backend cpu --accel linear --max-depth 5");
+        ASSERT_EQ(r.status, 0) << show(r);
+        ASSERT_NE(readArray<int32_t>("G.prim.npy"), readArray<int32_t>("H.prim.npy"));
+        ASSERT_NE(readArray<float>("G.t.npy"), readArray<float>("H.t.npy"));
+        fs::rename(path("G." + std::string(column) + ".npy"),
+                   path("H." + std::string(column) + ".npy"));
         r = run(certify());
         EXPECT_TRUE(isOneLineError(r));
         EXPECT_EQ(r.status, 2);
@@ -253,21 +247,41 @@ TEST_F(CertifyCli, PairMixedFromTwoTraceRunsIsRefused) {
         EXPECT_NE(r.err.find("one run"), std::string::npos) << r.err;
         EXPECT_EQ(r.out, "");
     }
-    // Both files replaced (another tracer wrote the pair over H): the record vouches for
-    // neither and says nothing about this pair; certify judges it (wrong answers for the cube).
+    // Both files rewritten by another tracer: the record vouches for neither and says nothing
+    // about this pair; certify judges it (wrong answers for the cube).
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    ASSERT_EQ(run("trace " + quote(kTeapot) + " --rays " + q("R.npy") + " --out " + q("G") +
+                  " --backend cpu --accel linear --max-depth 5")
+                  .status,
+              0);
     for (const char* column : {"t", "prim"})
         fs::copy_file(path("G." + std::string(column) + ".npy"),
                       path("H." + std::string(column) + ".npy"),
                       fs::copy_options::overwrite_existing);
-    r = run(certify());
+    RunResult r = run(certify());
     EXPECT_TRUE(isOneLineVerdict(r, 1));
     // A pair without the record (another tracer's files) is certified as before.
-    for (const char* name : {"H.t.npy", "H.prim.npy"})
-        fs::copy_file(path(std::string(name) + ".kept"), path(name),
-                      fs::copy_options::overwrite_existing);
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
     fs::remove(path("H.run.json"));
     r = run(certify());
     EXPECT_EQ(r.status, 0) << show(r);
+}
+
+// Another tracer that finds exactly octrace's primitives, with t an ulp away, writes its pair
+// over a prefix octrace traced into (each file written anew and renamed, as careful writers do).
+// Its prim file has the bytes the record hashed, but not the identity: the record vouches for
+// neither file, and the pair is judged, not refused as a mix (it was, by the hash alone).
+TEST_F(CertifyCli, AnotherTracersPairWithTheSameIdsIsJudgedNotRefused) {
+    ASSERT_NO_FATAL_FAILURE(raysAndTrace(kCube));
+    std::vector<float> t = readArray<float>("H.t.npy");
+    const std::vector<int32_t> prim = readArray<int32_t>("H.prim.npy");
+    for (size_t i = 0; i < 256; ++i)  // the camera set's rows (16x16), whose tmax is +inf
+        if (std::isfinite(t[i])) t[i] = std::nextafter(t[i], INFINITY);
+    oct::writeNpy(path("H.t.npy"), "<f4", {t.size()}, t.data(), 4);  // a new file, renamed
+    oct::writeNpy(path("H.prim.npy"), "<i4", {prim.size()}, prim.data(), 4);
+    const RunResult r = run(certify());
+    EXPECT_EQ(r.status, 0) << show(r);  // an ulp is within every tolerance
+    EXPECT_EQ(r.err.find("one run"), std::string::npos) << r.err;
 }
 
 TEST_F(CertifyCli, AFaultyAnswerFailsNamingItsRow) {

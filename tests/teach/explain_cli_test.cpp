@@ -123,6 +123,19 @@ TEST(ExplainCli, RaysTraceRefusesAreRefusedByTracesRule) {
     }
 }
 
+// A number numpy.float32 would not read is not read here either: a trailing comma (one more,
+// empty, number) and hexadecimal floats were accepted; "inf" for tmax stays, as numpy reads it.
+TEST(ExplainCli, RayTextNumpyWouldNotReadIsRefused) {
+    TempDir dir("explain_text");
+    for (const char* ray : {"0,0,60,0,0,-1,", "0,0,60,0,0,-0x1p0", ",0,0,60,0,0,-1"}) {
+        RunResult r = runOctrace({"explain", kTeapot, "--ray", ray}, dir.path());
+        EXPECT_TRUE(isOneLineError(r)) << ray;
+        EXPECT_NE(r.err.find("six or eight numbers"), std::string::npos) << r.err;
+    }
+    RunResult r = runOctrace({"explain", kTeapot, "--ray", "0,0,60,0,0,-1,0,inf"}, dir.path());
+    EXPECT_EQ(r.status, 0) << show(r);
+}
+
 // The band's ends are explained as trace traces them: the same hit, t a distance.
 TEST(ExplainCli, DirectionsAtTheBandsEndsHitAsAUnitDirectionDoes) {
     TempDir dir("explain_band");

@@ -49,8 +49,17 @@ std::string fileName(const std::string& path) {
     return slash == std::string::npos ? path : path.substr(slash + 1);
 }
 
+// What the record says of one file: its data's hash and the identity the file had when trace
+// renamed it into place.
+struct Vouched {
+    std::string hash;
+    uint64_t inode = 0;
+    int64_t mtimeNs = 0;
+};
+
 struct RunRecord {
-    std::string run, t, prim;  // the run id and the two data hashes
+    std::string run;  // the run id
+    Vouched t, prim;
 };
 
 RunRecord readRunRecord(const std::string& path) {
@@ -69,11 +78,32 @@ RunRecord readRunRecord(const std::string& path) {
     if (text(j, "format") != "octrace-hits")
         throw IoError("hits record '" + path + "': 'format' is not \"octrace-hits\" (" + hint +
                       ")");
+    auto file = [&](const char* key) {
+        const nlohmann::json o = j.value(key, nlohmann::json());
+        Vouched v;
+        v.hash = text(o, "fnv1a64");
+        if (!o["inode"].is_number_unsigned() || !o["mtime_ns"].is_number_integer())
+            throw IoError("hits record '" + path + "': no 'inode' and 'mtime_ns' for '" + key +
+                          "' (" + hint + ")");
+        v.inode = o["inode"].get<uint64_t>();
+        v.mtimeNs = o["mtime_ns"].get<int64_t>();
+        return v;
+    };
     RunRecord r;
     r.run = text(j, "octrace_run");
-    r.t = text(j.value("t", nlohmann::json()), "fnv1a64");
-    r.prim = text(j.value("prim", nlohmann::json()), "fnv1a64");
+    r.t = file("t");
+    r.prim = file("prim");
     return r;
+}
+
+// A file the record vouches for: the same file trace renamed into place (inode and mtime: a
+// file written anew, renamed over it or rewritten in place is another) with the same data.
+bool vouchedFor(const Vouched& v, const std::string& path, const NpyArray& a) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) != 0) return false;
+    const int64_t mtimeNs = int64_t(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
+    return uint64_t(st.st_ino) == v.inode && mtimeNs == v.mtimeNs &&
+           hex64(fnv1a64(a.data.data(), a.data.size())) == v.hash;
 }
 
 // The check readHitFiles makes with both arrays read (hit_files.h).
@@ -82,8 +112,8 @@ void checkSameRun(const std::string& prefix, const NpyArray& t, const NpyArray& 
     struct stat st;
     if (::lstat(recordPath.c_str(), &st) != 0) return;  // not octrace trace's pair: no record
     const RunRecord r = readRunRecord(recordPath);
-    const bool tOurs = hex64(fnv1a64(t.data.data(), t.data.size())) == r.t;
-    const bool primOurs = hex64(fnv1a64(prim.data.data(), prim.data.size())) == r.prim;
+    const bool tOurs = vouchedFor(r.t, hitTPath(prefix), t);
+    const bool primOurs = vouchedFor(r.prim, hitPrimPath(prefix), prim);
     if (tOurs == primOurs) return;
     const std::string vouched = tOurs ? hitTPath(prefix) : hitPrimPath(prefix);
     const std::string other = tOurs ? hitPrimPath(prefix) : hitTPath(prefix);
@@ -99,16 +129,19 @@ void checkSameRun(const std::string& prefix, const NpyArray& t, const NpyArray& 
 std::string hitRunPath(const std::string& prefix) { return prefix + ".run.json"; }
 
 std::string hitRunRecord(const std::string& prefix, const float* t, const int32_t* prim,
-                         uint64_t rows) {
+                         uint64_t rows, const OutputSet& staged) {
     const size_t bytes = size_t(rows) * 4;
+    auto file = [&](const std::string& path, const void* data) {
+        const OutputSet::Stamp st = staged.stamp(path);
+        return nlohmann::ordered_json{{"file", fileName(path)},
+                                      {"fnv1a64", hex64(fnv1a64(data, bytes))},
+                                      {"inode", st.inode},
+                                      {"mtime_ns", st.mtimeNs}};
+    };
     const nlohmann::ordered_json j = {
-        {"format", "octrace-hits"},
-        {"version", 1},
-        {"octrace_run", randomRunId()},
-        {"rows", rows},
-        {"t", {{"file", fileName(hitTPath(prefix))}, {"fnv1a64", hex64(fnv1a64(t, bytes))}}},
-        {"prim",
-         {{"file", fileName(hitPrimPath(prefix))}, {"fnv1a64", hex64(fnv1a64(prim, bytes))}}}};
+        {"format", "octrace-hits"},       {"version", 1},
+        {"octrace_run", randomRunId()},   {"rows", rows},
+        {"t", file(hitTPath(prefix), t)}, {"prim", file(hitPrimPath(prefix), prim)}};
     return j.dump(2) + "\n";
 }
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/geometry/ray.h"
+#include "core/io/output_file.h"
 
 namespace oct {
 
@@ -27,13 +28,18 @@ std::string hitRunPath(const std::string& prefix);   // PREFIX.run.json
 // can tell a pair from two runs (one run's t, another's prim: whole files of the right length)
 // from a pair one run wrote:
 //   {"format": "octrace-hits", "version": 1, "octrace_run": "<16 hex digits, random>",
-//    "rows": N, "t": {"file": "PREFIX.t.npy", "fnv1a64": "<16 hex digits>"},
-//    "prim": {"file": "PREFIX.prim.npy", "fnv1a64": "<16 hex digits>"}}
-// fnv1a64 is the hash of each file's data section (the array's bytes after the .npy header).
+//    "rows": N, "t": {"file": "PREFIX.t.npy", "fnv1a64": "<16 hex digits>", "inode": I,
+//                     "mtime_ns": T},
+//    "prim": {...the same for PREFIX.prim.npy}}
+// fnv1a64 is the hash of each file's data section (the array's bytes after the .npy header);
+// inode and mtime_ns are the file's as staged in `staged` (a rename keeps both). A file is
+// vouched for when all three still hold: another tracer that finds the same ids writes a new
+// file (or rewrites this one), so its pair is judged, while a pair from two octrace runs has one
+// file the record vouches for and one it does not, and is refused.
 // A sidecar file rather than a key in the .npy headers: numpy refuses a header dict with any
 // key beyond descr, fortran_order and shape ("Header does not contain the correct keys").
 std::string hitRunRecord(const std::string& prefix, const float* t, const int32_t* prim,
-                         uint64_t rows);
+                         uint64_t rows, const OutputSet& staged);
 
 // Reads the answers for `rays` rays (`raysPath` names the ray file in messages); without
 // primIds only PREFIX.t.npy. Throws IoError with one line naming the file, what it holds
