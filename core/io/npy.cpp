@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <limits>
+#include <map>
 #include <sstream>
 
 #include "core/io/input_file.h"
@@ -40,39 +41,73 @@ std::string headerFor(const std::string& descr, const std::vector<uint64_t>& sha
     throw IoError("'" + path + "' is not a valid .npy file: " + why);
 }
 
-// Value of key in the header dict, e.g. 'descr': '<f4' -> <f4, 'shape': (3, 8) -> 3, 8.
-// numpy reads the dict as a Python literal (numpy.lib.format.read_array_header_1_0 uses
-// ast.literal_eval), so keys and strings may be in single or double quotes, as other writers
-// (and numpy's own older versions) put them, and the last value may end at the '}'.
-std::string field(const std::string& header, const std::string& key, const std::string& path) {
-    size_t k = header.find("'" + key + "'");
-    if (k == std::string::npos) k = header.find("\"" + key + "\"");
-    if (k == std::string::npos) bad(path, "header has no '" + key + "'");
-    size_t colon = header.find(':', k + key.size() + 2);
-    if (colon == std::string::npos) bad(path, "malformed header");
-    size_t start = header.find_first_not_of(' ', colon + 1);
-    if (start == std::string::npos) bad(path, "malformed header");
-    const char open = header[start];
-    const bool quoted = open == '\'' || open == '"';
-    size_t from = quoted || open == '(' ? start + 1 : start;
-    size_t end = quoted        ? header.find(open, from)
-                 : open == '(' ? header.find(')', from)
-                               : header.find_first_of(",}", from);
-    if (end == std::string::npos) bad(path, "malformed header");
-    return header.substr(from, end - from);
+// The header is a Python dict literal, e.g. {'descr': '<f4', 'fortran_order': False,
+// 'shape': (3, 8), } (numpy.lib.format). Keys and string values may use either quote; values
+// are kept as written (a string without its quotes, a tuple without its parentheses).
+std::map<std::string, std::string> parseHeader(const std::string& h, const std::string& path) {
+    size_t i = 0;
+    auto space = [&] {
+        while (i < h.size() && (h[i] == ' ' || h[i] == '\t' || h[i] == '\n' || h[i] == '\r')) ++i;
+    };
+    auto malformed = [&]() { bad(path, "malformed header dict at byte " + std::to_string(i)); };
+    auto quoted = [&] {
+        char q = h[i];
+        size_t end = h.find(q, i + 1);
+        if (end == std::string::npos) malformed();
+        std::string s = h.substr(i + 1, end - i - 1);
+        i = end + 1;
+        return s;
+    };
+    std::map<std::string, std::string> out;
+    space();
+    if (i >= h.size() || h[i] != '{') malformed();
+    ++i;
+    for (;;) {
+        space();
+        if (i < h.size() && h[i] == '}') break;
+        if (i >= h.size() || (h[i] != '\'' && h[i] != '"')) malformed();
+        std::string key = quoted();
+        space();
+        if (i >= h.size() || h[i] != ':') malformed();
+        ++i;
+        space();
+        if (i >= h.size()) malformed();
+        std::string value;
+        if (h[i] == '\'' || h[i] == '"') {
+            value = quoted();
+        } else if (h[i] == '(') {
+            size_t end = h.find(')', i);
+            if (end == std::string::npos) malformed();
+            value = h.substr(i + 1, end - i - 1);
+            i = end + 1;
+        } else {
+            size_t end = h.find_first_of(",} \t\n", i);
+            if (end == std::string::npos) malformed();
+            value = h.substr(i, end - i);
+            i = end;
+        }
+        out[key] = value;
+        space();
+        if (i < h.size() && h[i] == ',') {
+            ++i;
+            continue;
+        }
+        if (i < h.size() && h[i] == '}') break;
+        malformed();
+    }
+    return out;
 }
 
 std::vector<uint64_t> parseShape(const std::string& s, const std::string& path) {
     std::vector<uint64_t> shape;
-    std::string token;
     std::istringstream in(s);
+    std::string token;
     while (std::getline(in, token, ',')) {
-        size_t a = token.find_first_not_of(' ');
-        if (a == std::string::npos) continue;
-        size_t b = token.find_last_not_of(' ');
+        size_t a = token.find_first_not_of(" \t");
+        if (a == std::string::npos) continue;  // the trailing comma of a 1-tuple
+        size_t b = token.find_last_not_of(" \t");
         token = token.substr(a, b - a + 1);
-        if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos ||
-            token.size() > 19)
+        if (token.find_first_not_of("0123456789") != std::string::npos || token.size() > 19)
             bad(path, "bad shape entry '" + token + "'");
         shape.push_back(std::stoull(token));
     }
@@ -139,44 +174,64 @@ void writeNpy(const std::string& path, const std::string& descr, const std::vect
     out.commit();
 }
 
-NpyArray readNpy(const std::string& path, const std::string& what,
-                 const std::function<void(const NpyArray&)>& check) {
-    InputFile in(path, what);
+std::string npyShapeText(const std::vector<uint64_t>& shape) {
+    std::string s = "(";
+    for (size_t k = 0; k < shape.size(); ++k) s += (k ? ", " : "") + std::to_string(shape[k]);
+    return s + (shape.size() == 1 ? ",)" : ")");
+}
+
+NpyHeader readNpyHeader(InputFile& in, const std::string& path) {
     const uint64_t fileSize = in.size();
-    if (fileSize < 10) bad(path, "shorter than the 10-byte preamble");
+    // Preamble: magic "\x93NUMPY", major, minor, header length (uint16 LE in 1.0, uint32 LE in
+    // 2.0 and 3.0), then the header, then the data.
     unsigned char pre[12];
+    if (fileSize < 10) bad(path, "shorter than the 10-byte preamble");
     in.readExactly(pre, 10);
     if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
     const int major = pre[6];
     uint64_t headerLen = pre[8] | uint64_t(pre[9]) << 8;
-    uint64_t dataStart = 10;
+    NpyHeader h;
+    h.dataStart = 10;
     if (major == 2 || major == 3) {
         if (fileSize < 12) bad(path, "shorter than its preamble");
         in.readExactly(pre + 10, 2);
         headerLen |= uint64_t(pre[10]) << 16 | uint64_t(pre[11]) << 24;
-        dataStart = 12;
+        h.dataStart = 12;
     } else if (major != 1) {
         bad(path, "unsupported format version " + std::to_string(major));
     }
-    if (headerLen > fileSize - dataStart) bad(path, "header runs past the end of the file");
+    if (headerLen > fileSize - h.dataStart) bad(path, "header runs past the end of the file");
     std::string header(headerLen, '\0');
     in.readExactly(&header[0], header.size());
-    dataStart += headerLen;
+    h.dataStart += headerLen;
 
+    std::map<std::string, std::string> dict = parseHeader(header, path);
+    for (const char* key : {"descr", "fortran_order", "shape"})
+        if (!dict.count(key)) bad(path, std::string("header has no '") + key + "'");
+    if (dict["fortran_order"] != "False")
+        bad(path, "Fortran-ordered arrays are not supported; save with numpy.ascontiguousarray");
+    h.descr = dict["descr"];
+    h.shape = parseShape(dict["shape"], path);
+    return h;
+}
+
+NpyArray readNpy(const std::string& path, const std::string& what,
+                 const std::function<void(const NpyArray&)>& check) {
+    InputFile in(path, what);
+    const uint64_t fileSize = in.size();
+    const NpyHeader h = readNpyHeader(in, path);
     NpyArray a;
-    a.descr = field(header, "descr", path);
+    a.descr = h.descr;
+    a.shape = h.shape;
     size_t elem = descrSize(a.descr);
     if (elem == 0) bad(path, "unsupported dtype '" + a.descr + "'");
-    if (field(header, "fortran_order", path).find("False") == std::string::npos)
-        bad(path, "Fortran-ordered arrays are not supported; save with np.ascontiguousarray");
-    a.shape = parseShape(field(header, "shape", path), path);
     uint64_t count = 1;
     for (uint64_t d : a.shape) {
         if (d != 0 && count > std::numeric_limits<uint64_t>::max() / d / elem)
             bad(path, "shape is too large");
         count *= d;
     }
-    uint64_t available = fileSize - dataStart;
+    uint64_t available = fileSize - h.dataStart;
     if (count * elem != available)
         bad(path, "shape needs " + std::to_string(count * elem) + " data bytes but the file has " +
                       std::to_string(available) + " (truncated or wrong header)");

@@ -52,6 +52,22 @@ void stageNpy(OutputSet& out, const std::string& path, const std::string& descr,
 void writeNpy(const std::string& path, const std::string& descr, const std::vector<uint64_t>& shape,
               const void* data, size_t elementSize);
 
+// The preamble and header dict of a version 1.x, 2.x or 3.x .npy file open in `in`, read and
+// checked (magic, version, a header inside the file, a dict with descr, fortran_order False
+// and a shape of decimal entries); `in` is left at the data, which start at dataStart. Throws
+// IoError "'PATH' is not a valid .npy file: ..." naming what is wrong. The one header reader:
+// readNpy and the ray file reader (ray_file.h) both start here.
+struct NpyHeader {
+    std::string descr;
+    std::vector<uint64_t> shape;
+    uint64_t dataStart = 0;
+};
+class InputFile;
+NpyHeader readNpyHeader(InputFile& in, const std::string& path);
+
+// A shape as Python writes it: "(3, 8)", "(5,)".
+std::string npyShapeText(const std::vector<uint64_t>& shape);
+
 // Reads a version 1.x, 2.x or 3.x .npy file. Throws IoError naming the file and the problem for
 // a missing file or one that is not a regular file (refused unread, core/io/input_file.h;
 // `what` names it there: "hits"), a bad magic or header, Fortran order, or a data size that

@@ -2,11 +2,11 @@
 
 #include <cmath>
 #include <cstring>
-#include <map>
 #include <sstream>
 
 #include "core/geometry/numeric_range.h"
 #include "core/io/input_file.h"
+#include "core/io/npy.h"
 
 namespace oct {
 namespace {
@@ -17,85 +17,6 @@ static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
 
 [[noreturn]] void bad(const std::string& path, const std::string& why) {
     throw IoError("'" + path + "' is not a valid .npy file: " + why);
-}
-
-// The header is a Python dict literal, e.g. {'descr': '<f4', 'fortran_order': False,
-// 'shape': (3, 8), } (numpy.lib.format). Keys and string values may use either quote; values
-// are kept as written (a string without its quotes, a tuple without its parentheses).
-std::map<std::string, std::string> parseHeader(const std::string& h, const std::string& path) {
-    size_t i = 0;
-    auto space = [&] {
-        while (i < h.size() && (h[i] == ' ' || h[i] == '\t' || h[i] == '\n' || h[i] == '\r')) ++i;
-    };
-    auto malformed = [&]() { bad(path, "malformed header dict at byte " + std::to_string(i)); };
-    auto quoted = [&] {
-        char q = h[i];
-        size_t end = h.find(q, i + 1);
-        if (end == std::string::npos) malformed();
-        std::string s = h.substr(i + 1, end - i - 1);
-        i = end + 1;
-        return s;
-    };
-    std::map<std::string, std::string> out;
-    space();
-    if (i >= h.size() || h[i] != '{') malformed();
-    ++i;
-    for (;;) {
-        space();
-        if (i < h.size() && h[i] == '}') break;
-        if (i >= h.size() || (h[i] != '\'' && h[i] != '"')) malformed();
-        std::string key = quoted();
-        space();
-        if (i >= h.size() || h[i] != ':') malformed();
-        ++i;
-        space();
-        if (i >= h.size()) malformed();
-        std::string value;
-        if (h[i] == '\'' || h[i] == '"') {
-            value = quoted();
-        } else if (h[i] == '(') {
-            size_t end = h.find(')', i);
-            if (end == std::string::npos) malformed();
-            value = h.substr(i + 1, end - i - 1);
-            i = end + 1;
-        } else {
-            size_t end = h.find_first_of(",} \t\n", i);
-            if (end == std::string::npos) malformed();
-            value = h.substr(i, end - i);
-            i = end;
-        }
-        out[key] = value;
-        space();
-        if (i < h.size() && h[i] == ',') {
-            ++i;
-            continue;
-        }
-        if (i < h.size() && h[i] == '}') break;
-        malformed();
-    }
-    return out;
-}
-
-std::vector<uint64_t> parseShape(const std::string& s, const std::string& path) {
-    std::vector<uint64_t> shape;
-    std::istringstream in(s);
-    std::string token;
-    while (std::getline(in, token, ',')) {
-        size_t a = token.find_first_not_of(" \t");
-        if (a == std::string::npos) continue;  // the trailing comma of a 1-tuple
-        size_t b = token.find_last_not_of(" \t");
-        token = token.substr(a, b - a + 1);
-        if (token.find_first_not_of("0123456789") != std::string::npos || token.size() > 19)
-            bad(path, "bad shape entry '" + token + "'");
-        shape.push_back(std::stoull(token));
-    }
-    return shape;
-}
-
-std::string pythonShape(const std::vector<uint64_t>& shape) {
-    std::string s = "(";
-    for (size_t k = 0; k < shape.size(); ++k) s += (k ? ", " : "") + std::to_string(shape[k]);
-    return s + (shape.size() == 1 ? ",)" : ")");
 }
 
 std::string number(double v) {
@@ -154,42 +75,17 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
     InputFile in(path, "the ray file", "save the rays with numpy.save and give that file");
     const uint64_t fileSize = in.size();
 
-    // Preamble: magic "\x93NUMPY", major, minor, header length (uint16 LE in 1.0, uint32 LE in
-    // 2.0 and 3.0), then the header, then the data.
-    unsigned char pre[12];
-    if (fileSize < 10 || in.read(pre, 10) != 10) bad(path, "shorter than the 10-byte preamble");
-    if (std::memcmp(pre, "\x93NUMPY", 6) != 0) bad(path, "missing the \\x93NUMPY magic");
-    const int major = pre[6];
-    uint64_t headerLen = pre[8] | uint64_t(pre[9]) << 8;
-    uint64_t dataStart = 10;
-    if (major == 2 || major == 3) {
-        if (in.read(pre + 10, 2) != 2) bad(path, "shorter than its preamble");
-        headerLen |= uint64_t(pre[10]) << 16 | uint64_t(pre[11]) << 24;
-        dataStart = 12;
-    } else if (major != 1) {
-        bad(path, "unsupported format version " + std::to_string(major));
-    }
-    if (headerLen > fileSize - dataStart) bad(path, "header runs past the end of the file");
-    std::string header(headerLen, '\0');
-    if (in.read(&header[0], headerLen) != headerLen)
-        bad(path, "the file changed while it was read");
-    dataStart += headerLen;
-
-    std::map<std::string, std::string> dict = parseHeader(header, path);
-    for (const char* key : {"descr", "fortran_order", "shape"})
-        if (!dict.count(key)) bad(path, std::string("header has no '") + key + "'");
-    if (dict["fortran_order"] != "False")
-        bad(path, "Fortran-ordered arrays are not supported; save with numpy.ascontiguousarray");
-    const std::vector<uint64_t> shape = parseShape(dict["shape"], path);
-    if (dict["descr"] != "<f4" || shape.size() != 2 || shape[1] != 8)
+    const NpyHeader h = readNpyHeader(in, path);
+    const std::vector<uint64_t>& shape = h.shape;
+    if (h.descr != "<f4" || shape.size() != 2 || shape[1] != 8)
         throw IoError("'" + path +
                       "' must be a float32 array of shape (N, 8): ox oy oz dx dy dz tmin tmax; "
                       "it holds dtype " +
-                      dict["descr"] + ", shape " + pythonShape(shape));
-    const uint64_t available = fileSize - dataStart;
+                      h.descr + ", shape " + npyShapeText(shape));
+    const uint64_t available = fileSize - h.dataStart;
     const uint64_t rows = shape[0];
     if (rows > available / 32 || rows * 32 != available)
-        bad(path, "shape " + pythonShape(shape) + " needs " +
+        bad(path, "shape " + npyShapeText(shape) + " needs " +
                       (rows > available / 32 ? std::string("more") : std::to_string(rows * 32)) +
                       " data bytes but the file has " + std::to_string(available) +
                       " (truncated or wrong header)");

@@ -14,21 +14,16 @@
 namespace oct {
 namespace {
 
-std::string shapeText(const std::vector<uint64_t>& shape) {
-    std::string s = "(";
-    for (size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
-    return s + (shape.size() == 1 ? ",)" : ")");
-}
-
 // The array of one file, checked against what certify expects.
 NpyArray readColumn(const std::string& path, const char* descr, const char* what, uint64_t n,
                     const std::string& raysPath) {
     // Checked on the header, before the data are read.
     return readNpy(path, "hits", [&](const NpyArray& a) {
         if (a.descr != descr || a.shape.size() != 1 || a.shape[0] != n)
-            throw IoError("'" + path + "' holds dtype " + a.descr + " shape " + shapeText(a.shape) +
-                          "; expected " + what + " (" + descr + ") of shape (" + std::to_string(n) +
-                          ",), one per row of '" + raysPath + "' (docs/TRACE_FORMAT.md)");
+            throw IoError("'" + path + "' holds dtype " + a.descr + " shape " +
+                          npyShapeText(a.shape) + "; expected " + what + " (" + descr +
+                          ") of shape (" + std::to_string(n) + ",), one per row of '" + raysPath +
+                          "' (docs/TRACE_FORMAT.md)");
     });
 }
 
