@@ -108,6 +108,14 @@ public:
     // The longest side of a triangle, the diameter of a sphere; the largest over the scene.
     double diameter(uint32_t prim) const;
     double largestDiameter() const { return largestDiameter_; }
+    // False only when no point of primitive i lies within max(base, its diameter) of p: its
+    // bounding sphere (radius r, so the diameter is at most 2r) is farther than that, with a
+    // margin of 1e-6 for a bound computed with a float |d|. A cheap filter before distanceTo
+    // for a bound that grows with the primitive (surfacePrimitive).
+    bool mayLieWithin(uint32_t i, DVec3 p, double base) const {
+        const double r = boundRadius_[i];
+        return length(p - boundCentre_[i]) - r <= std::max(base, 2.0 * r) * (1.0 + 1e-6);
+    }
     // Calls f(prim) for every primitive whose box lies within `radius` of p (a superset of those
     // whose surface does).
     template <class F>

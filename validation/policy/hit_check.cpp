@@ -122,8 +122,13 @@ int32_t HitClassifier::surfacePrimitive(const Ray& ray, float t, bool& on) const
     // point is on lies within the largest bound a primitive can have of it.
     int32_t best = -1;
     double bestDist = INFINITY;
-    const double radius = std::max(surfaceBound(ray), truth_.largestDiameter());
+    const double base = surfaceBound(ray);
+    const double radius = std::max(base, truth_.largestDiameter());
     truth_.primitivesNear(p, radius, [&](uint32_t i) {
+        // surfaceBound(ray, i) is at most max(base, the diameter of i) (hitTError's cap, times a
+        // float |d|): most candidates within the largest diameter are ruled out by their
+        // bounding sphere, unmeasured.
+        if (!truth_.mayLieWithin(i, p, base)) return;
         const double d = truth_.distanceTo(i, p);
         if (d <= surfaceBound(ray, int32_t(i)) &&
             (d < bestDist || (d == bestDist && int32_t(i) < best))) {
