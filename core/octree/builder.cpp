@@ -122,9 +122,8 @@ uint64_t checkNextLevel(const Scene& scene, const BuildParams& params, uint64_t 
                           std::to_string(nextDepth) + ", " + std::to_string(nodes + nextNodes) +
                           " with it: lower --max-depth, raise --max-prims, or raise --node-budget");
     const uint64_t bytes = storeBytes + nextNodes * kBuildBytesPerNode;
-    const std::string why = memoryShortfall(bytes, levelText(scene, nextDepth, nextNodes) + ")",
-                                            "lower --max-depth or raise --max-prims", left);
-    if (!why.empty()) throw OctreeError(why);
+    checkMemory<OctreeError>(bytes, levelText(scene, nextDepth, nextNodes) + ")",
+                             "lower --max-depth or raise --max-prims", left);
     return left.bytes - bytes;
 }
 

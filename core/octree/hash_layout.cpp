@@ -72,10 +72,8 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
             ++h.growSteps;
         }
         h.bucketCount = m;
-        const std::string why =
-            memoryShortfall(m * slotBytes, "the hash octree (m = " + std::to_string(m) + ")",
-                            "lower --max-depth, raise --max-prims, or raise --hash-slots");
-        if (!why.empty()) throw OctreeError(why);
+        checkMemory<OctreeError>(m * slotBytes, "the hash octree (m = " + std::to_string(m) + ")",
+                                 "lower --max-depth, raise --max-prims, or raise --hash-slots");
         h.slots.assign(m * B, OctreeNode{});  // key 0 marks an unused slot
     } catch (const std::bad_alloc&) {
         throw OctreeError("hash octree: out of memory allocating m = " + std::to_string(m) +

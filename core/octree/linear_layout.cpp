@@ -21,10 +21,7 @@ uint64_t linearNodeCount(int depth) {
 }
 
 uint64_t linearBytes(int depth) {
-    uint64_t n = linearNodeCount(depth);
-    if (n > std::numeric_limits<uint64_t>::max() / sizeof(OctreeNode))
-        return std::numeric_limits<uint64_t>::max();
-    return n * sizeof(OctreeNode);
+    return saturatingMul(linearNodeCount(depth), sizeof(OctreeNode));
 }
 
 namespace {
@@ -52,10 +49,9 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
                           ": lower --max-depth, raise --max-prims, or raise --linear-budget");
     // Within the budget but perhaps not within the machine (the budget goes to 16 TiB): the
     // array is filled at once, so past the memory left it would be the OOM killer's, not ours.
-    const std::string why = memoryShortfall(
+    checkMemory<OctreeError>(
         bytes, "the linear octree of depth " + std::to_string(tree.depth),
         "lower --max-depth or raise --max-prims (the array's size is set by the depth)");
-    if (!why.empty()) throw OctreeError(why);
     LinearOctree lin;
     try {
         lin.nodes.assign(linearNodeCount(tree.depth), invalidNode());

@@ -61,8 +61,7 @@ uint64_t gridCloudBytes(uint32_t n) {
 Scene makeGridCloud(uint32_t n, uint64_t seed) {
     const std::string spec = "grid:" + std::to_string(n) + ":" + std::to_string(seed);
     const int depth = gridCloudDepth(n);
-    const std::string why = memoryShortfall(gridCloudBytes(n), spec, "use fewer points");
-    if (!why.empty()) throw SceneError(why);
+    checkMemory<SceneError>(gridCloudBytes(n), spec, "use fewer points");
     Scene scene;
     scene.name = spec;
     scene.kind = PrimKind::Spheres;

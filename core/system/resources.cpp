@@ -99,9 +99,4 @@ std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::
            bytesText(m.bytes) + " " + m.source + "; " + advice;
 }
 
-void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice) {
-    const std::string why = memoryShortfall(bytes, what, advice);
-    if (!why.empty()) throw ResourceError(why);
-}
-
 }  // namespace oct

@@ -46,8 +46,18 @@ std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::
 // The same against a limit read before (what was left when a level began).
 std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::string& advice,
                             const MemoryLimit& limit);
-// The same, thrown as ResourceError.
-void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice);
+// The same, thrown as `Error` (ResourceError, or the caller's own: OctreeError, SceneError).
+template <class Error = ResourceError>
+void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice) {
+    const std::string why = memoryShortfall(bytes, what, advice);
+    if (!why.empty()) throw Error(why);
+}
+template <class Error>
+void checkMemory(uint64_t bytes, const std::string& what, const std::string& advice,
+                 const MemoryLimit& limit) {
+    const std::string why = memoryShortfall(bytes, what, advice, limit);
+    if (!why.empty()) throw Error(why);
+}
 
 // a * b, or UINT64_MAX when it overflows: estimates of absurd requests stay absurd, not small.
 uint64_t saturatingMul(uint64_t a, uint64_t b);
