@@ -149,27 +149,37 @@ TempSuffixSource gSuffixSource = nullptr;  // tests only (setTempSuffixSourceFor
 std::string randomSuffix() {
     if (gSuffixSource) return gSuffixSource();
     unsigned char bytes[kSuffixLength];
-    if (::getrandom(bytes, sizeof bytes, 0) != ssize_t(sizeof bytes)) {
-        std::random_device device;  // getrandom missing (a kernel before 3.17): the C++ source
-        for (unsigned char& b : bytes) b = static_cast<unsigned char>(device());
-    }
+    randomBytes(bytes, sizeof bytes);
     std::string s;
     for (unsigned char b : bytes) s += kSuffixAlphabet[b % (sizeof kSuffixAlphabet - 1)];
     return s;
 }
 
+class UniqueFd {
+public:
+    explicit UniqueFd(int fd) : fd_(fd) {}
+    ~UniqueFd() {
+        if (fd_ >= 0) ::close(fd_);
+    }
+    UniqueFd(const UniqueFd&) = delete;
+    UniqueFd& operator=(const UniqueFd&) = delete;
+    int get() const { return fd_; }
+    int release() { return std::exchange(fd_, -1); }
+    void reset(int fd) {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = fd;
+    }
+
+private:
+    int fd_;
+};
+
 // An open temporary: its name, its entry in the signal handler's table, and its descriptor
-// (closed by the destructor unless writeTemp closed it, checking the result).
+// (closed on destruction unless writeTemp closed it, checking the result).
 struct Temp {
     std::string path;
     int slot = -1;
-    int fd = -1;
-    Temp() = default;
-    Temp(const Temp&) = delete;
-    Temp& operator=(const Temp&) = delete;
-    ~Temp() {
-        if (fd >= 0) ::close(fd);
-    }
+    UniqueFd fd{-1};
 };
 
 // Creates a new, empty temporary for `target` (mode 0666 less the umask, as fopen gives). The
@@ -199,7 +209,7 @@ void createTemp(const std::string& target, Temp& t) {
         if (fd >= 0) {
             t.path = tmp;
             t.slot = slot;
-            t.fd = fd;
+            t.fd.reset(fd);
             return;
         }
         if (err != EEXIST)
@@ -245,9 +255,8 @@ void refuseSpecialTarget(const std::string& path) {
 void writeTemp(const std::string& path, Temp& t, const std::vector<OutputSet::Piece>& pieces) {
     int err = 0;
     bool ok = true;
-    for (const OutputSet::Piece& p : pieces) ok = ok && writeAll(t.fd, p.data, p.bytes, err);
-    const int fd = t.fd;
-    t.fd = -1;
+    for (const OutputSet::Piece& p : pieces) ok = ok && writeAll(t.fd.get(), p.data, p.bytes, err);
+    const int fd = t.fd.release();
     if (::close(fd) != 0 && ok) {  // NFS reports a failed write at close
         ok = false;
         err = errno;
@@ -322,25 +331,6 @@ bool sameFile(const FileId& a, const FileId& b) {
 
 constexpr char kLockText[] = "octrace run lock (flock): removed when the run ends\n";
 constexpr int kLockAttempts = 16;
-
-class UniqueFd {
-public:
-    explicit UniqueFd(int fd) : fd_(fd) {}
-    ~UniqueFd() {
-        if (fd_ >= 0) ::close(fd_);
-    }
-    UniqueFd(const UniqueFd&) = delete;
-    UniqueFd& operator=(const UniqueFd&) = delete;
-    int get() const { return fd_; }
-    int release() { return std::exchange(fd_, -1); }
-    void reset(int fd) {
-        if (fd_ >= 0) ::close(fd_);
-        fd_ = fd;
-    }
-
-private:
-    int fd_;
-};
 
 bool sameInode(const struct stat& a, const struct stat& b) {
     return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
@@ -540,6 +530,13 @@ void checkWritable(const std::string& path) {
 }
 
 void setTempSuffixSourceForTests(TempSuffixSource source) { gSuffixSource = source; }
+
+void randomBytes(void* out, size_t n) {
+    if (::getrandom(out, n, 0) == ssize_t(n)) return;
+    std::random_device device;  // getrandom missing (a kernel before 3.17): the C++ source
+    unsigned char* b = static_cast<unsigned char*>(out);
+    for (size_t i = 0; i < n; ++i) b[i] = static_cast<unsigned char>(device());
+}
 
 void checkOutputPaths(const std::vector<std::string>& outputs,
                       const std::vector<std::string>& inputs) {

@@ -106,6 +106,10 @@ private:
 // files: render, rays, certify, explain. Refuses an output that is another's lock file.
 std::vector<OutputLock> lockOutputs(const std::vector<std::string>& outputs);
 
+// n unpredictable bytes (getrandom; std::random_device where the kernel lacks it): the
+// temporaries' names, trace's run ids.
+void randomBytes(void* out, size_t n);
+
 // Tests only: where the temporaries' random suffixes come from (nullptr: getrandom). A test
 // returns a name it has taken, to see that the file there is never opened.
 using TempSuffixSource = std::string (*)();

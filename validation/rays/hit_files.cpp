@@ -1,11 +1,9 @@
 #include "validation/rays/hit_files.h"
 
-#include <sys/random.h>
 #include <sys/stat.h>
 
 #include <cstring>
 #include <nlohmann/json.hpp>
-#include <random>
 
 #include "core/io/input_file.h"
 #include "core/io/npy.h"
@@ -32,10 +30,7 @@ constexpr uint64_t kMaxRecordBytes = 64 * 1024;
 // 64 random bits, as 16 hex digits: tells one run from another in the record and the messages.
 std::string randomRunId() {
     uint64_t v = 0;
-    if (::getrandom(&v, sizeof v, 0) != ssize_t(sizeof v)) {
-        std::random_device device;  // getrandom missing (a kernel before 3.17)
-        v = uint64_t(device()) << 32 | device();
-    }
+    randomBytes(&v, sizeof v);
     return hex64(v);
 }
 
