@@ -129,16 +129,11 @@ CLI::Validator finiteNumber() {
         kNumberValidator);
 }
 
-CLI::Validator numberIn(double lo, double hi) {
-    return CLI::Validator([lo, hi](std::string& text) { return numberProblem(text, lo, hi); },
-                          "[" + shortest(lo) + ", " + shortest(hi) + "]", kNumberValidator);
-}
-
 CLI::Validator numberIn(double lo, double hi, const std::string& why) {
     return CLI::Validator(
         [lo, hi, why](std::string& text) {
             const std::string problem = numberProblem(text, lo, hi);
-            return problem.empty() ? problem : problem + " (" + why + ")";
+            return problem.empty() || why.empty() ? problem : problem + " (" + why + ")";
         },
         "[" + shortest(lo) + ", " + shortest(hi) + "]", kNumberValidator);
 }

@@ -56,10 +56,9 @@ std::string outOfMemoryAdvice(const CLI::App& command);
 // CLI11's conversion, which names it. Named kNumberValidator, so a test can find it.
 constexpr const char* kNumberValidator = "NUMBER";
 CLI::Validator finiteNumber();
-CLI::Validator numberIn(double lo, double hi);
-// The same, with why the bounds are what they are appended to the out-of-range message
-// ("--threads: 4096 is not in [1, 16] (8 threads per core online ...)").
-CLI::Validator numberIn(double lo, double hi, const std::string& why);
+// `why`, when given, is appended to the out-of-range message: why the bounds are what they are
+// ("--threads: 4096 is not in [1, 16] (8 per core online ...)").
+CLI::Validator numberIn(double lo, double hi, const std::string& why = "");
 // --radius's own range, after finiteNumber(): a float > 0 (0 is the default rule, not a value).
 CLI::Validator positiveRadius();
 
