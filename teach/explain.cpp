@@ -331,12 +331,11 @@ Ray explainedRay(const float* row) {
     // float on the direction as given (|d| > 1.84e19 squared is +inf: a miss with NaN points).
     int e = 0;
     const Ray scaled = scaledRay(row, e);
-    const double len =
-        std::sqrt(double(scaled.dir.x) * scaled.dir.x + double(scaled.dir.y) * scaled.dir.y +
-                  double(scaled.dir.z) * scaled.dir.z);
+    const DVec3 d = toDouble(scaled.dir);
+    const double len = length(d);
     Ray ray;
     ray.org = scaled.org;
-    ray.dir = {float(scaled.dir.x / len), float(scaled.dir.y / len), float(scaled.dir.z / len)};
+    ray.dir = {float(d.x / len), float(d.y / len), float(d.z / len)};
     // t on the scaled ray times its length is a distance; past float range it is +inf, where
     // trace's scaled tmin and tmax are too large for any hit as well.
     auto distance = [len](float t) {
