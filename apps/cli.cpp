@@ -184,18 +184,6 @@ void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHe
     addThreadsOption(cmd, o.threads);
 }
 
-std::vector<std::string> splitList(const std::string& text) {
-    std::vector<std::string> out;
-    std::string item;
-    std::istringstream in(text);
-    while (std::getline(in, item, ',')) {
-        item.erase(0, item.find_first_not_of(" \t"));
-        item.erase(item.find_last_not_of(" \t") + 1);
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
-}
-
 std::vector<const LayoutDesc*> parseLayoutList(const std::string& text) {
     std::vector<const LayoutDesc*> out;
     auto add = [&](const LayoutDesc* l) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "backends/backend_list.h"
+#include "core/io/name_list.h"
 #include "core/octree/layout_registry.h"
 #include "core/render/frame.h"
 #include "core/scene/scene.h"
@@ -113,9 +114,7 @@ void setCpuThreadsFromOption(int threads);
 constexpr int kThreadsPerCore = 8;
 int maxThreads();
 
-// Splits a comma list, trimming spaces and tabs around each item and dropping empty ones: the
-// one list parser of the command line.
-std::vector<std::string> splitList(const std::string& text);
+// splitList (core/io/name_list.h) is the one list parser of the command line.
 // Layouts named in a --accel list ("all": every layout), without repeats, in the order given.
 // Throws naming the option and the value when one is unknown or the list is empty.
 std::vector<const LayoutDesc*> parseLayoutList(const std::string& text);

@@ -10,6 +10,7 @@
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
 #include "validation/certify_baseline.h"
+#include "validation/certify_run.h"
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_manifest.h"
 #include "validation/rays/verdict_files.h"
@@ -116,36 +117,29 @@ void runCertify(const CertifyCliOptions& o) {
     if (scene.report.totalDropped() > 0)
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
-    std::vector<std::string> notes;
-    // One double truth of the scene (the classifier's) seals the rebuilt targets and rechecks
-    // the answers. raySetFromFile checks the scene against the manifest (checkSameScene) before
-    // it rebuilds anything.
     if (manifest) checkSameScene(*manifest, scene, o.rays);  // before building anything
     const double loadSeconds = lap();
-    const auto start = std::chrono::steady_clock::now();
-    const HitClassifier classifier(scene, o.policy);
-    const double truthSeconds = lap();
-    RaySet rays =
-        raySetFromFile(scene, std::move(rows), manifest, o.rays, notes, &classifier.truth());
-    const double setsSeconds = lap();
-    if (!o.diffImage.empty() && !rays.find("camera"))
+
+    CertifyRunOptions ro;
+    ro.policy = o.policy;
+    ro.query.ownSets = o.queryText == "anyhit" ? QueryKind::AnyHit : QueryKind::Closest;
+    ro.require = o.requireText == "correct"      ? Require::Correct
+                 : o.requireText == "watertight" ? Require::Watertight
+                                                 : Require::All;
+    ro.raysName = o.rays;
+    // Before the work: without a manifest the rows are one set "all", with no camera set.
+    if (!o.diffImage.empty() &&
+        (!manifest || std::none_of(manifest->sets.begin(), manifest->sets.end(),
+                                   [](const RaySetRange& s) { return s.name == "camera"; })))
         throw std::runtime_error(
             "--diff-image needs a camera set: make the rays with octrace "
             "rays --set camera,... and keep " +
             manifestPath + " beside them");
-
-    CertifyOptions co;
-    co.ownSets = o.queryText == "anyhit" ? QueryKind::AnyHit : QueryKind::Closest;
-    CertifyReport rep = certifyTracer(classifier, rays, hits, co);
-    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    rep.require = o.requireText == "correct"      ? Require::Correct
-                  : o.requireText == "watertight" ? Require::Watertight
-                                                  : Require::All;
-    rep.rays = o.rays;
+    CertifyRun run = certifyRows(scene, std::move(rows), hits, manifest, ro);
+    lap();
+    CertifyReport& rep = run.report;
+    const RaySet& rays = run.rays;
     rep.hits = o.noPrim ? hitTPath(o.hits) : hitTPath(o.hits) + " " + hitPrimPath(o.hits);
-    rep.manifest = haveManifest;
-    rep.seed = manifest ? manifest->seed : 0;
-    rep.notes = notes;
 
     std::optional<BaselineComparison> change;
     if (baseline) change = compareWithBaseline(rep.result, *baseline, o.baseline);
@@ -171,8 +165,8 @@ void runCertify(const CertifyCliOptions& o) {
     std::fprintf(human,
                  "phases   read %.3f s, load scene %.3f s, double truth %.3f s, ray sets %.3f s, "
                  "reference %.3f s, check %.3f s, report %.3f s\n",
-                 readSeconds, loadSeconds, truthSeconds, setsSeconds, rep.referenceSeconds,
-                 rep.checkSeconds, lap() - rep.referenceSeconds - rep.checkSeconds);
+                 readSeconds, loadSeconds, run.truthSeconds, run.setsSeconds, rep.referenceSeconds,
+                 rep.checkSeconds, lap());
     std::fflush(stdout);
     const Outcome outcome = rep.outcome();
     if (outcome != Outcome::Pass)

@@ -11,8 +11,7 @@
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "core/scene/scene_formats.h"
-#include "core/system/resources.h"
-#include "validation/rays/ray_manifest.h"
+#include "validation/rays/standard_rays.h"
 
 namespace oct {
 namespace {
@@ -29,46 +28,14 @@ struct RaysOptions {
     RaysOptions() { camera.size = "256x256"; }
 };
 
-// --set: names or "all" (every set the scene can make: on a point cloud those that need no
-// triangles, on a mesh without a shared edge or a closed fan no edges or vertices set, each
-// left out with a note). A set named explicitly that the scene cannot make is refused.
+// --set: chooseRaySets (validation/rays/standard_rays.h), its refusals named as --set's.
 std::vector<const RaySetDesc*> parseSets(const std::string& text, const Scene& scene,
                                          std::vector<std::string>& notes) {
-    std::vector<const RaySetDesc*> listed;
-    std::vector<bool> named;  // given by name, not by "all"
-    for (const std::string& name : splitList(text)) {
-        if (name == "all") {
-            for (const RaySetDesc& kind : standardRaySets())
-                if (std::find(listed.begin(), listed.end(), &kind) == listed.end()) {
-                    listed.push_back(&kind);
-                    named.push_back(false);
-                }
-            continue;
-        }
-        const RaySetDesc* k = findRaySet(name);
-        if (!k)
-            throw CLI::ValidationError("--set",
-                                       "unknown set '" + name + "' (" + raySetNames() + ", all)");
-        if (std::find(listed.begin(), listed.end(), k) != listed.end())
-            throw CLI::ValidationError("--set", "'" + name + "' is named twice");
-        listed.push_back(k);
-        named.push_back(true);
+    try {
+        return chooseRaySets(text, scene, notes);
+    } catch (const RaySetChoiceError& e) {
+        throw CLI::ValidationError("--set", e.what());
     }
-    const std::vector<std::string> why = raySetsUnavailable(scene, listed);
-    std::vector<const RaySetDesc*> out;
-    for (size_t i = 0; i < listed.size(); ++i) {
-        if (why[i].empty())
-            out.push_back(listed[i]);
-        else if (named[i])
-            throw CLI::ValidationError("--set", std::string(listed[i]->name) + ": " + why[i] +
-                                                    " (leave the set out, or use --set all)");
-        else
-            notes.push_back(std::string("set ") + listed[i]->name + " left out: " + why[i]);
-    }
-    if (out.empty())
-        throw CLI::ValidationError("--set",
-                                   "'" + text + "' names no set (" + raySetNames() + ", all)");
-    return out;
 }
 
 void runRays(const RaysOptions& o) {
@@ -93,22 +60,12 @@ void runRays(const RaysOptions& o) {
     if (!o.triangles.empty() && scene.kind != PrimKind::Triangles)
         throw std::runtime_error("--triangles: '" + o.scene + "' is a point cloud");
 
-    // Before a row is drawn: the sets' memory against the machine's (core/system/resources.h).
-    checkMemory(raySetPeakBytes(spec),
-                "octrace rays --size " + o.camera.size + " --count " + std::to_string(o.count),
-                "use a smaller --size (the camera and shadow sets hold a row per pixel each) or a "
-                "smaller --count");
-
-    // The shadow set starts at the reference's camera hits: the backend list's reference.
-    std::unique_ptr<SceneTracer> reference;
-    BuiltScene bare = bareScene(scene);
-    if (std::any_of(spec.sets.begin(), spec.sets.end(),
-                    [](const RaySetDesc* k) { return k->needsReference; }))
-        reference = referenceBackend().prepare(bare);
-    TraceBatch trace;
-    if (reference) trace = [&reference](RayBatchView b) { reference->trace(b); };
-    RaySet rays = makeRaySet(scene, spec, trace);
-    RayManifest manifest = describeRaySet(scene, spec, rays);
+    StandardRays made = makeStandardRays(
+        scene, spec, "octrace rays --size " + o.camera.size + " --count " + std::to_string(o.count),
+        "use a smaller --size (the camera and shadow sets hold a row per pixel each) or a smaller "
+        "--count");
+    const RaySet& rays = made.rays;
+    const RayManifest& manifest = made.manifest;
 
     OutputSet out;  // all files or none
     // Written from the rays where they lie (no encoded copy of the file in memory).
