@@ -188,10 +188,19 @@ public:
     double trace(RayBatchView batch) override {
         DeviceBuffer<float> rays, t;
         DeviceBuffer<int32_t> prim;
+        DeviceBuffer<uint32_t> nodes, primsTested;  // only when the caller asks for the cost
         rays.upload(batch.rays, 8 * batch.count, "the rays");
         t.allocate(batch.count, "the hit distances");
         prim.allocate(batch.count, "the primitive ids");
         RayBatchView dev{rays.get(), t.get(), prim.get(), batch.count};
+        if (batch.nodes) {
+            nodes.allocate(batch.count, "the nodes visited per ray");
+            dev.nodes = nodes.get();
+        }
+        if (batch.primsTested) {
+            primsTested.allocate(batch.count, "the primitives tested per ray");
+            dev.primsTested = primsTested.get();
+        }
         double seconds = 0.0;
         if (batch.count > 0) {
             unsigned block = 128;
@@ -207,6 +216,8 @@ public:
         }
         t.download(batch.t, batch.count);
         prim.download(batch.prim, batch.count);
+        if (batch.nodes) nodes.download(batch.nodes, batch.count);
+        if (batch.primsTested) primsTested.download(batch.primsTested, batch.count);
         return seconds;
     }
 

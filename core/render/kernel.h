@@ -135,6 +135,11 @@ struct RayBatchView {
     float* t;           // N, +inf on a miss
     int32_t* prim;      // N, -1 on a miss
     uint64_t count;
+    // Optional, N each (null: not written): the ray's traversal cost, node boxes tested and
+    // ray-primitive tests (the Python module's cast_rays; trace writes neither). A backend with
+    // its own structure (Embree) counts none: it writes zeros.
+    uint32_t* nodes = nullptr;
+    uint32_t* primsTested = nullptr;
 };
 
 // The ray's direction is scaled by the power of two 2^-e that brings its largest component into
@@ -194,6 +199,8 @@ OCT_HD inline void traceRayAt(uint64_t i, const Accel& accel, RayBatchView batch
     const Hit hit = closestHit(accel, ray, cost);
     batch.t[i] = unscaledT(hit.t, e);
     batch.prim[i] = hit.prim;
+    if (batch.nodes) batch.nodes[i] = cost.nodesVisited;
+    if (batch.primsTested) batch.primsTested[i] = cost.primsTested;
 }
 
 }  // namespace oct

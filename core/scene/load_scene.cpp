@@ -27,21 +27,27 @@ void checkReadableFile(const std::string& path) {
     std::error_code ec;
     fs::file_status status = fs::status(path, ec);
     if (status.type() == fs::file_type::not_found)
-        throw SceneError("cannot open " + inQuotes(path) +
-                         ": No such file or directory; check the path");
-    if (ec) throw SceneError("cannot open " + inQuotes(path) + ": " + ec.message());
+        throw SceneError(
+            "cannot open " + inQuotes(path) + ": No such file or directory; check the path",
+            ENOENT);
+    if (ec) throw SceneError("cannot open " + inQuotes(path) + ": " + ec.message(), ec.value());
     if (fs::is_directory(status))
         throw SceneError("cannot load " + inQuotes(path) + ": it is a directory; give a " +
-                         sceneExtensionList(" or ") + " file");
+                             sceneExtensionList(" or ") + " file",
+                         EISDIR);
     // A FIFO would block the read forever and a device such as /dev/zero never ends.
     if (!fs::is_regular_file(status))
         throw SceneError("cannot load " + inQuotes(path) +
-                         ": it is not a regular file (a pipe, socket or device); copy the scene "
-                         "into a file first");
+                             ": it is not a regular file (a pipe, socket or device); copy the "
+                             "scene into a file first",
+                         EINVAL);
     std::ifstream probe(path, std::ios::binary);
-    if (!probe)
-        throw SceneError("cannot open " + inQuotes(path) + ": " + std::strerror(errno) +
-                         "; check the file's permissions");
+    if (!probe) {
+        const int error = errno;
+        throw SceneError("cannot open " + inQuotes(path) + ": " + std::strerror(error) +
+                             "; check the file's permissions",
+                         error);
+    }
 }
 
 // Largest |coordinate| (sphere centres plus the radius) of the scene's primitives.
@@ -151,6 +157,68 @@ Scene loadScene(const std::string& path, const LoadOptions& opts) {
     } catch (const std::exception& e) {
         throw SceneError("cannot load " + inQuotes(path) + ": " + e.what());
     }
+}
+
+namespace {
+
+// The first row of an array scene that a loader would drop, as a refusal naming it.
+[[noreturn]] void refuseRow(const std::string& name, uint64_t row, uint64_t count,
+                            const std::string& why) {
+    throw SceneError("cannot use " + inQuotes(name) + ": row " + std::to_string(row) + " of " +
+                     std::to_string(count) + " " + why +
+                     "; remove such rows (octrace numbers the primitives by row, so none is "
+                     "dropped)");
+}
+
+void checkArrayCount(const std::string& name, uint64_t count, const char* what) {
+    if (count == 0)
+        throw SceneError("cannot use " + inQuotes(name) + ": it holds no " + what +
+                         "; give at least one");
+    if (count >= UINT32_MAX)
+        throw SceneError("cannot use " + inQuotes(name) + ": it has more than 2^32 - 2 " + what +
+                         ", beyond octrace's 32-bit primitive ids; split the scene");
+}
+
+}  // namespace
+
+Scene sceneFromTriangles(const float* rows, uint64_t count, const std::string& name) {
+    checkArrayCount(name, count, "triangles");
+    Scene scene;
+    scene.name = name;
+    scene.kind = PrimKind::Triangles;
+    scene.report.format = "array";
+    scene.report.verticesRead = 3 * count;
+    scene.report.facesRead = count;
+    scene.triangles.reserve(count);
+    scene.sourceFace.reserve(count);
+    for (uint64_t i = 0; i < count; ++i) {
+        const float* r = rows + 9 * i;
+        const Triangle t{{r[0], r[1], r[2]}, {r[3], r[4], r[5]}, {r[6], r[7], r[8]}};
+        if (!isFinite(t.v0) || !isFinite(t.v1) || !isFinite(t.v2))
+            refuseRow(name, i, count, "has a non-finite coordinate");
+        if (isDegenerate(t)) refuseRow(name, i, count, "is a triangle of zero area");
+        scene.triangles.push_back(t);
+        scene.sourceFace.push_back(uint32_t(i));
+    }
+    checkSceneRange(scene);
+    return scene;
+}
+
+Scene sceneFromPoints(const float* rows, uint64_t count, const LoadOptions& opts,
+                      const std::string& name) {
+    checkRadiusOption(name, opts);
+    checkArrayCount(name, count, "points");
+    std::vector<Vec3> points(count);
+    for (uint64_t i = 0; i < count; ++i) {
+        points[i] = {rows[3 * i], rows[3 * i + 1], rows[3 * i + 2]};
+        if (!isFinite(points[i])) refuseRow(name, i, count, "has a non-finite coordinate");
+    }
+    LoadReport report;
+    report.format = "array";
+    report.verticesRead = count;
+    Scene scene = sphereScene(name, points, report, opts);
+    checkSceneRange(scene);
+    return scene;
 }
 
 }  // namespace oct

@@ -19,6 +19,17 @@ namespace oct {
 
 Scene loadScene(const std::string& path, const LoadOptions& opts = {});
 
+// Scenes of the caller's arrays (the Python module's Scene.from_triangles and from_points), held
+// to the files' rules, except that nothing is dropped: a row the loaders would drop (a
+// non-finite coordinate, a triangle of zero area) is refused naming its row, since the caller
+// numbers primitives by row and a dropped one would shift every id after it. Then the numeric
+// range as loadScene. `name` names the scene in messages and reports; report.format is "array".
+//   triangles: `count` rows of 9 floats, v0 v1 v2 (primitive id = row);
+//   points:    `count` rows of 3 floats, spheres of opts.radius or defaultPointRadius.
+Scene sceneFromTriangles(const float* rows, uint64_t count, const std::string& name);
+Scene sceneFromPoints(const float* rows, uint64_t count, const LoadOptions& opts,
+                      const std::string& name);
+
 // Default sphere radius for a point cloud:
 //   R = 0.5 x the median nearest-neighbour distance, taken over a deterministic sample of at most
 //   10,000 points (all points when there are fewer; otherwise the points at indices

@@ -39,14 +39,17 @@ void trimLine(std::string& s) {
 
 std::ifstream openOrThrow(const std::string& path, std::ios::openmode mode) {
     std::ifstream in(path, mode);
-    if (!in) throw SceneError("cannot open " + inQuotes(path) + ": " + std::strerror(errno));
+    if (!in) {
+        const int error = errno;
+        throw SceneError("cannot open " + inQuotes(path) + ": " + std::strerror(error), error);
+    }
     return in;
 }
 
 uint64_t fileSize(const std::string& path) {
     std::error_code ec;
     uint64_t size = fs::file_size(path, ec);
-    if (ec) throw SceneError("cannot read " + inQuotes(path) + ": " + ec.message());
+    if (ec) throw SceneError("cannot read " + inQuotes(path) + ": " + ec.message(), ec.value());
     return size;
 }
 

@@ -103,6 +103,9 @@ void checkDeclaredCounts(const std::string& path, const ElementCounts& declared,
 Scene buildMeshScene(const std::string& path, const std::string& format, const RawMesh& raw,
                      Survey survey);
 
+// Exact zero-area test: the edges' cross product in double is the zero vector.
+bool isDegenerate(const Triangle& t);
+
 // The finite points; the others counted in report.droppedNonFinite.
 std::vector<Vec3> finitePoints(const std::vector<Vec3>& points, LoadReport& report);
 

@@ -34,13 +34,6 @@ private:
     std::vector<int64_t> remap_;
 };
 
-// Exact zero-area test: the edges' cross product in double is the zero vector.
-bool isDegenerate(const Triangle& t) {
-    double ax = double(t.v1.x) - t.v0.x, ay = double(t.v1.y) - t.v0.y, az = double(t.v1.z) - t.v0.z;
-    double bx = double(t.v2.x) - t.v0.x, by = double(t.v2.y) - t.v0.y, bz = double(t.v2.z) - t.v0.z;
-    return ay * bz - az * by == 0.0 && az * bx - ax * bz == 0.0 && ax * by - ay * bx == 0.0;
-}
-
 // Collects the corners of face f; false (and the drop counted) when the face is unusable.
 bool faceCorners(const RawMesh& raw, const VertexResolver& resolve, size_t f, LoadReport& report,
                  std::vector<Vec3>& corners) {
@@ -148,6 +141,12 @@ Scene buildMeshScene(const std::string& path, const std::string& format, const R
     throw SceneError("cannot load " + inQuotes(path) + ": none of its " +
                      std::to_string(report.facesRead) + " faces is usable (" + dropSummary(report) +
                      "); repair the mesh");
+}
+
+bool isDegenerate(const Triangle& t) {
+    double ax = double(t.v1.x) - t.v0.x, ay = double(t.v1.y) - t.v0.y, az = double(t.v1.z) - t.v0.z;
+    double bx = double(t.v2.x) - t.v0.x, by = double(t.v2.y) - t.v0.y, bz = double(t.v2.z) - t.v0.z;
+    return ay * bz - az * by == 0.0 && az * bx - ax * bz == 0.0 && ax * by - ay * bx == 0.0;
 }
 
 }  // namespace oct::scene_detail

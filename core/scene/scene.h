@@ -18,6 +18,15 @@ namespace oct {
 class SceneError : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+    SceneError(const std::string& what, int osError)
+        : std::runtime_error(what), osError_(osError) {}
+    // The errno of a scene file that could not be opened or read (ENOENT, EACCES, EISDIR; EINVAL
+    // for a pipe or device), so that callers can tell a file they could not read (Python's
+    // OSError) from one that was read and refused (ValueError); 0 for the latter.
+    int osError() const { return osError_; }
+
+private:
+    int osError_ = 0;
 };
 
 // What loading saw and what it dropped; nothing is dropped without being counted here.
