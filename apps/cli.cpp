@@ -162,8 +162,6 @@ Vec3 parseVec3(const std::string& option, const std::string& text) {
 
 void setCpuThreadsFromOption(int threads) { setCpuThreads(threads); }
 
-int maxThreads() { return kThreadsPerCore * onlineCores(); }
-
 void addThreadsOption(CLI::App& cmd, int& threads) {
     const int most = maxThreads();
     cmd.add_option("--threads", threads,

@@ -15,6 +15,7 @@
 #include "core/octree/layout_registry.h"
 #include "core/render/frame.h"
 #include "core/scene/scene.h"
+#include "core/system/resources.h"
 
 namespace oct {
 
@@ -106,13 +107,7 @@ void addTraceOptions(CLI::App& cmd, TraceChoice& o, const std::string& backendHe
 void addThreadsOption(CLI::App& cmd, int& threads);
 // Applies --threads (0: leave OpenMP's default, i.e. OMP_NUM_THREADS or all cores).
 void setCpuThreadsFromOption(int threads);
-// --threads' bound: kThreadsPerCore times the cores online (core/system/resources.h). Threads
-// past the cores only take turns on them, and each reserves a stack: `--threads 4096` under a
-// memory limit ended in libgomp's "Thread creation failed", an abort with no octrace line.
-// Eight per core leaves room to oversubscribe on purpose (a test of thread counts on a small
-// machine) and keeps the stacks to a few hundred MiB even on large machines.
-constexpr int kThreadsPerCore = 8;
-int maxThreads();
+// --threads' bound: maxThreads() (core/system/resources.h).
 
 // splitList (core/io/name_list.h) is the one list parser of the command line.
 // Layouts named in a --accel list ("all": every layout), without repeats, in the order given.

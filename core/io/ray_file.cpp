@@ -93,11 +93,15 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
     float* rays = allocate(rows);  // the final buffer: read into directly, one pass
     if (in.read(rays, available) != available || !in.atEnd())
         bad(path, "the file changed while it was read");
+    checkRayRows(rays, rows, "'" + path + "'");
+    return rows;
+}
+
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what) {
     const uint64_t first = firstBadRow(rays, rows);
     if (first < rows)
-        throw IoError("'" + path + "' row " + std::to_string(first) + ": " +
+        throw IoError(what + " row " + std::to_string(first) + ": " +
                       rayRowProblem(&rays[8 * first]));
-    return rows;
 }
 
 std::vector<float> readRayFile(const std::string& path) {

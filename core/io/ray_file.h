@@ -35,5 +35,8 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
 // [kMinRayDirection, kMaxRayDirection]; tmin finite and >= 0 (Embree, the ground truth, takes
 // no negative tmin); tmax not NaN and >= tmin (+inf allowed).
 std::string rayRowProblem(const float* r);
+// Every row of rays (rows x 8 floats) by that rule, as the reader checks a file's: throws IoError
+// "WHAT row I: why" for the first that breaks it (`what` names the rays: the file in quotes).
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what);
 
 }  // namespace oct

@@ -35,6 +35,15 @@ MemoryLimit memoryLimit();
 // Cores online (sysconf(_SC_NPROCESSORS_ONLN)), at least 1.
 int onlineCores();
 
+// The most OpenMP threads a caller may ask for (--threads, the Python module's threads=):
+// kThreadsPerCore times the cores online. Threads past the cores only take turns on them, and
+// each reserves a stack: `--threads 4096` under a memory limit ended in libgomp's "Thread
+// creation failed", an abort with no octrace line. Eight per core leaves room to oversubscribe
+// on purpose (a test of thread counts on a small machine) and keeps the stacks to a few hundred
+// MiB even on large machines.
+constexpr int kThreadsPerCore = 8;
+inline int maxThreads() { return kThreadsPerCore * onlineCores(); }
+
 // "512 MiB", "8.6 GiB": binary units, three significant digits.
 std::string bytesText(uint64_t bytes);
 
