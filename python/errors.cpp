@@ -1,5 +1,6 @@
 #include "python/errors.h"
 
+#include <cstring>
 #include <new>
 #include <stdexcept>
 
@@ -13,14 +14,26 @@
 namespace oct::python {
 namespace {
 
-// OSError(errno, message): Python picks the errno's subclass (ENOENT: FileNotFoundError).
-void setOsError(int error, const char* message) {
-    PyObject* args = Py_BuildValue("(is)", error, message);
-    PyErr_SetObject(PyExc_OSError, args);
-    Py_XDECREF(args);
+// The message as a str: bytes of a file quoted in it that are not UTF-8 (a garbage line of a
+// malformed scene) are kept as \x escapes instead of failing the decode and losing the message.
+PyObject* messageText(const char* message) {
+    return PyUnicode_DecodeUTF8(message, Py_ssize_t(std::strlen(message)), "backslashreplace");
+}
+
+void setError(PyObject* type, const char* message) {
+    PyObject* text = messageText(message);
+    PyErr_SetObject(type, text);
+    Py_XDECREF(text);
 }
 
 }  // namespace
+
+void setOsError(int error, const char* message) {
+    // OSError(errno, message): Python picks the errno's subclass (ENOENT: FileNotFoundError).
+    PyObject* args = Py_BuildValue("(iN)", error, messageText(message));
+    PyErr_SetObject(PyExc_OSError, args);
+    Py_XDECREF(args);
+}
 
 void registerErrorTranslator() {
     pybind11::register_exception_translator([](std::exception_ptr p) {
@@ -30,21 +43,21 @@ void registerErrorTranslator() {
             if (e.osError() != 0)
                 setOsError(e.osError(), e.what());
             else
-                PyErr_SetString(PyExc_ValueError, e.what());
+                setError(PyExc_ValueError, e.what());
         } catch (const ResourceError& e) {
-            PyErr_SetString(PyExc_MemoryError, e.what());
+            setError(PyExc_MemoryError, e.what());
         } catch (const OctreeError& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         } catch (const FrameError& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         } catch (const IoError& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         } catch (const TeachError& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         } catch (const std::invalid_argument& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         } catch (const std::out_of_range& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            setError(PyExc_ValueError, e.what());
         }
         // Anything else goes on to pybind11's own translator (std::bad_alloc: MemoryError,
         // std::exception: RuntimeError, pybind11's errors as themselves).

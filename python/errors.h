@@ -15,4 +15,8 @@ namespace oct::python {
 
 void registerErrorTranslator();
 
+// Sets OSError(error, message) as the pending Python error (the caller then throws
+// pybind11::error_already_set): for a file the module itself finds it cannot read.
+void setOsError(int error, const char* message);
+
 }  // namespace oct::python

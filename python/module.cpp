@@ -8,7 +8,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cerrno>
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -394,7 +396,15 @@ std::optional<RayManifest> manifestOf(const py::object& manifest) {
         }
         return manifestFromJson(j, "manifest");
     }
-    return readManifest(pathText(manifest));
+    const std::string path = pathText(manifest);
+    if (!std::filesystem::exists(path)) {
+        setOsError(ENOENT, ("cannot open the ray manifest '" + path +
+                            "': No such file or directory; check the path, or give the dict "
+                            "octrace.rays returned")
+                               .c_str());
+        throw py::error_already_set();
+    }
+    return readManifest(path);
 }
 
 Require requireNamed(const std::string& name) {
@@ -456,7 +466,7 @@ py::dict certify(SceneObject& s, const py::handle& raysArg, const py::handle& tA
     out["summary"] = summary;
     out["classes"] = ownedArray(std::move(r.rayClass), {ssize_t(n)});
     out["reasons"] = ownedArray(std::move(r.rayReasons), {ssize_t(n)});
-    out["leaks"] = ownedArray(std::move(r.rayLeak), {ssize_t(n)});
+    out["leak_states"] = ownedArray(std::move(r.rayLeak), {ssize_t(n)});  // "leaks": the count
     return out;
 }
 
@@ -661,10 +671,11 @@ Args:
     t_tolerance, edge_tolerance, grazing_cos, max_ambiguous_rate, max_rechecks: the policy
         (docs/VALIDATION.md), as certify's options of the same names.
 
-Returns the report `octrace certify --json` writes, as a dict ("pass", "verdict", "sets", ...),
+Returns the report `octrace certify --json` writes, as a dict ("pass", "verdict", "result" with
+the per-set table under "by_set", ...),
 plus "outcome" ("PASS", "FAIL", "INCOMPLETE"), "summary" (the text certify prints), and per ray
 "classes" uint8 (0 agree, 1 tie, 2 ambiguous, 3 wrong, 4 unverified), "reasons" uint32 (the
-ambiguity and fault bits) and "leaks" uint8 (0 sealed, 1 leak, 2 not a target, 3 unsealed,
+ambiguity and fault bits) and "leak_states" uint8 (0 sealed, 1 leak, 2 not a target, 3 unsealed,
 4 unverified): rep["classes"] == 3 selects the wrong rays.)");
     m.def("layouts", &layoutList,
           "The layouts of the registry, in list order (cast_rays' layout=).");

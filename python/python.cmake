@@ -9,7 +9,8 @@ if(NOT OCT_PYTHON)
 endif()
 
 file(GLOB OCT_PYTHON_SOURCES CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/python/*.cpp)
-pybind11_add_module(octrace_python MODULE ${OCT_PYTHON_SOURCES})
+# NO_EXTRAS: no link-time optimisation or stripping (the work is in the static libraries).
+pybind11_add_module(octrace_python MODULE NO_EXTRAS ${OCT_PYTHON_SOURCES})
 target_link_libraries(octrace_python PRIVATE octrace_validation octrace_teach)
 set_target_properties(octrace_python PROPERTIES OUTPUT_NAME octrace
                       LIBRARY_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/python)

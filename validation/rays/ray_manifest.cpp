@@ -292,9 +292,9 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
     checkManifestRows(m, n, raysPath);
     const std::string sum = hex64(fnv1a64(out.rays.data(), out.rays.size() * sizeof(float)));
     if (sum != m.checksum)
-        throw std::runtime_error("'" + raysPath + "' is not the file its manifest '" + mp +
-                                 "' describes (FNV-1a " + sum + ", manifest " + m.checksum +
-                                 "): the rays were changed; write them again with octrace rays");
+        throw IoError("'" + raysPath + "' is not the file its manifest '" + mp +
+                      "' describes (FNV-1a " + sum + ", manifest " + m.checksum +
+                      "): the rays were changed; write them again with octrace rays");
     checkSameScene(m, scene, raysPath);
     out.sets = m.sets;
 
@@ -339,12 +339,12 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
         const RaySetRange* r = rebuilt.find(f.name);
         if (!r) continue;
         if (!sameRows(out.rays, f, rebuilt, *r))
-            throw std::runtime_error("'" + raysPath + "' rows " + std::to_string(f.begin) + ".." +
-                                     std::to_string(f.begin + f.count) + " (set '" + f.name +
-                                     "') are not the set its manifest describes on '" + scene.name +
-                                     "': the file was edited, another version of octrace wrote "
-                                     "it, or it was made for another scene; write the rays "
-                                     "again with octrace rays");
+            throw IoError("'" + raysPath + "' rows " + std::to_string(f.begin) + ".." +
+                          std::to_string(f.begin + f.count) + " (set '" + f.name +
+                          "') are not the set its manifest describes on '" + scene.name +
+                          "': the file was edited, another version of octrace wrote "
+                          "it, or it was made for another scene; write the rays "
+                          "again with octrace rays");
         for (RayTarget t : rebuilt.targets)
             if (t.row >= r->begin && t.row < r->begin + r->count) {
                 t.row = t.row - r->begin + f.begin;
