@@ -143,12 +143,13 @@ std::string pathText(const py::object& path) {
 
 const char* kSceneOptionsDoc = R"(
     radius: sphere radius of a point cloud (None: half the median nearest-neighbour distance,
-        as octrace info says); refused for a mesh only in that it is unused.
+        as octrace info says); unused for a mesh.
     max_depth: deepest octree level (root = 0), 0..21 (--max-depth).
     max_prims: split a node holding more primitives than this (--max-prims).
     hash_slots: slots per hash bucket, 1..64 (--hash-slots).
-    linear_budget_mib, hash_budget_mib: largest linear / hash octree to allocate, MiB; a larger
-        one is refused (MemoryError is not raised: ValueError names the budget).
+    linear_budget_mib, hash_budget_mib: largest linear / hash octree to allocate, MiB; a layout
+        needing more is refused with a ValueError naming the budget (--linear-budget,
+        --hash-budget).
     node_budget: most octree nodes to build (--node-budget).)";
 
 // The command line's defaults for the octree options (apps/cli.h's SceneOptions).
