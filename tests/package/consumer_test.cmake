@@ -3,7 +3,8 @@
 # and runs examples/consumer against that prefix with find_package(octrace), as a project
 # outside the repository would. Fails with the step's output on the first step that fails.
 # Usage: cmake -DBUILD=build -DSOURCE=. -DWORK=DIR -DGENERATOR=G -DCXX=c++ [-DLAUNCHER=ccache]
-#              [-DCONFIG=Release] -P tests/package/consumer_test.cmake
+#              [-DCONFIG=Release] [-DPYTHON=/usr/bin/python3 -DPYTHON_DIR=lib/python3.11/...]
+#              -P tests/package/consumer_test.cmake
 foreach(var BUILD SOURCE WORK GENERATOR CXX)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "consumer_test: -D${var}=... is missing (see the usage at the top)")
@@ -86,3 +87,16 @@ find_program(program consumer PATHS ${consumer} ${consumer}/${CONFIG} NO_DEFAULT
              NO_CACHE REQUIRED)
 step("running ${program} ${SOURCE}/meshes/teapot.obj" ${program} ${SOURCE}/meshes/teapot.obj)
 message(STATUS "${step_output}")
+
+# The Python module as installed: imported from the prefix (not from the build tree), and one
+# scene traced through it.
+if(PYTHON)
+  set(module_dir ${prefix}/${PYTHON_DIR})
+  step("importing the installed octrace module from ${module_dir}"
+       ${CMAKE_COMMAND} -E env PYTHONPATH=${module_dir} ${PYTHON} -c
+       "import octrace, sys; assert octrace.__file__.startswith(sys.argv[1]), octrace.__file__; s = octrace.Scene(sys.argv[2]); print(s, octrace.__version__)"
+       ${module_dir} ${SOURCE}/meshes/teapot.obj)
+  if(NOT EXISTS ${module_dir}/octrace.pyi)
+    message(FATAL_ERROR "consumer_test: the install has no ${PYTHON_DIR}/octrace.pyi (python/python.cmake)")
+  endif()
+endif()
