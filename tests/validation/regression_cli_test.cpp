@@ -8,7 +8,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "backends/backend_list.h"
 #include "core/io/output_file.h"
+#include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
 #include "tests/json_file.h"
 #include "validation/regression/golden.h"
@@ -97,6 +99,59 @@ TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
     EXPECT_NE(r.out.find("40 pixels changed"), std::string::npos) << r.out;
     r = run({"validate", "--golden", (dir.path() / "golden").string(), "--cost-baseline", cost});
     EXPECT_EQ(r.status, 0) << r.out << r.err;
+}
+
+// --backend: every backend of our kernel in the list renders each image; one that cannot run
+// here is reported as skipped and the verdict is INCOMPLETE (exit 3), never a pass. An altered
+// image fails on every backend present.
+TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPassed) {
+    octtest::TempDir dir("regression_cli_backends");
+    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
+    json kept = json::array();
+    for (const json& e : m["images"])
+        if (e["file"] == "cube_binary.ply.png") kept.push_back(e);
+    m["images"] = kept;
+    fs::create_directories(dir.path() / "golden");
+    std::ofstream(dir.path() / "golden" / "golden.json") << m.dump(2);
+    fs::copy_file(OCT_SOURCE_DIR "/tests/data/golden/cube_binary.ply.png",
+                  dir.path() / "golden" / "cube_binary.ply.png");
+    std::string list;
+    std::vector<std::string> present, absent;
+    for (const oct::BackendDesc& b : oct::backends()) {
+        if (!b.usesLayouts) continue;
+        list += (list.empty() ? "" : ",") + std::string(b.name);
+        std::string why;
+        (b.available(why) ? present : absent).push_back(b.name);
+    }
+    auto check = [&](bool altered) {
+        RunResult r = run({"validate", "--golden", (dir.path() / "golden").string(), "--backend",
+                           list, "--json", dir.str("report.json")});
+        const json j = readJson(dir.path() / "report.json");
+        EXPECT_EQ(r.status, altered ? 1 : absent.empty() ? 0 : 3) << r.out << r.err;
+        EXPECT_FALSE(j["pass"].get<bool>() && !absent.empty());
+        for (const std::string& name : present) {
+            int rows = 0, failing = 0;
+            for (const json& row : j["golden"]["images"])
+                if (row["backend"] == name) {
+                    ++rows;
+                    failing += !row["pass"].get<bool>();
+                }
+            EXPECT_EQ(rows, int(oct::layouts().size())) << name;
+            EXPECT_EQ(failing, altered ? rows : 0) << name;
+        }
+        ASSERT_EQ(j["skipped_backends"].size(), absent.size()) << j.dump(2);
+        for (size_t i = 0; i < absent.size(); ++i) {
+            EXPECT_EQ(j["skipped_backends"][i]["backend"], absent[i]);
+            EXPECT_NE(r.out.find("skipped  backend " + absent[i]), std::string::npos) << r.out;
+        }
+    };
+    check(false);
+    int w = 0, h = 0;
+    std::vector<uint8_t> rgb =
+        oct::readPngRgb(OCT_SOURCE_DIR "/tests/data/golden/cube_binary.ply.png", w, h);
+    for (size_t i = 0; i < rgb.size(); i += 3 * 7) rgb[i] = uint8_t(rgb[i] ^ 0x40);
+    oct::writePng((dir.path() / "golden" / "cube_binary.ply.png").string(), w, h, rgb);
+    check(true);
 }
 
 TEST_F(RegressionCli, NothingToDoIsRefused) {

@@ -83,38 +83,45 @@ double change(uint64_t baseline, uint64_t now) {
     return double(now) / double(baseline) - 1.0;
 }
 
-// Every layout's totals for one scene, in registry order.
-std::vector<std::pair<std::string, CostTotals>> measure(const std::string& scene,
-                                                        const std::string& root,
-                                                        const RegressionRender& render,
-                                                        const std::string& file) {
-    std::vector<std::pair<std::string, CostTotals>> out;
-    for (const TracedFrame& f : renderRegressionFrames(scene, root, render, false, file)) {
+// One frame's totals: the layout and backend that rendered it.
+struct Measured {
+    std::string layout, backend;
+    CostTotals totals;
+};
+
+// Every layout's totals for one scene on each backend, backend by backend, layouts in registry
+// order.
+std::vector<Measured> measure(const std::string& scene, const std::string& root,
+                              const RegressionRender& render, const std::string& file,
+                              const std::vector<const BackendDesc*>& backends) {
+    std::vector<Measured> out;
+    for (const TracedFrame& f :
+         renderRegressionFrames(scene, root, render, false, file, backends)) {
         CostTotals t;
         t.pixels = f.film.pixelCount();
         for (size_t i = 0; i < f.film.pixelCount(); ++i) {
             t.nodes += f.film.nodes[i];
             t.prims += f.film.primsTested[i];
         }
-        out.emplace_back(f.tracer, t);
+        out.push_back({f.tracer, f.backend, t});
     }
     return out;
 }
 
-// Rows for one scene: the registry's layouts in order, then stale baselines.
-void judgeScene(const SceneBaselines& s,
-                const std::vector<std::pair<std::string, CostTotals>>& measured, double tolerance,
+// Rows for one scene: what each backend measured, layout by layout, then stale baselines.
+void judgeScene(const SceneBaselines& s, const std::vector<Measured>& measured, double tolerance,
                 std::vector<CostRow>& rows) {
-    for (const auto& [name, now] : measured) {
-        auto it = s.layouts.find(name);
+    for (const Measured& m : measured) {
+        auto it = s.layouts.find(m.layout);
         rows.push_back(
-            judgeCost(s.scene, name,
+            judgeCost(s.scene, m.layout,
                       it == s.layouts.end() ? std::nullopt : std::optional<CostTotals>(it->second),
-                      now, tolerance));
+                      m.totals, tolerance));
+        rows.back().backend = m.backend;
     }
     for (const std::string& name : s.order) {
         bool known = false;
-        for (const auto& m : measured) known = known || m.first == name;
+        for (const Measured& m : measured) known = known || m.layout == name;
         if (!known)
             rows.push_back(judgeCost(s.scene, name, s.layouts.at(name), std::nullopt, tolerance));
     }
@@ -195,7 +202,7 @@ namespace {
 // layout, judge against the file, or rewrite it with the new totals (rows then compare them
 // with the old ones).
 CostReport runCostBaselines(const std::string& file, const std::string& root, RegressionMode mode,
-                            double tolerance) {
+                            double tolerance, const std::vector<const BackendDesc*>& backends) {
     const auto start = std::chrono::steady_clock::now();
     const bool update = mode == RegressionMode::Update;
     BaselineFile b = readBaselines(file);
@@ -206,14 +213,14 @@ CostReport runCostBaselines(const std::string& file, const std::string& root, Re
     rep.tolerance = tolerance;
     rep.updated = update;
     for (SceneBaselines& s : b.scenes) {
-        const auto measured = measure(s.scene, root, b.render, file);
+        const std::vector<Measured> measured = measure(s.scene, root, b.render, file, backends);
         judgeScene(s, measured, tolerance, rep.rows);
         if (!update) continue;
         s.layouts.clear();
         s.order.clear();
-        for (const auto& [name, t] : measured) {
-            s.layouts[name] = t;
-            s.order.push_back(name);
+        for (const Measured& m : measured) {  // update: the host backend alone
+            s.layouts[m.layout] = m.totals;
+            s.order.push_back(m.layout);
         }
     }
     if (update) {
@@ -227,12 +234,13 @@ CostReport runCostBaselines(const std::string& file, const std::string& root, Re
 
 }  // namespace
 
-CostReport checkCostBaselines(const std::string& file, const std::string& root, double tolerance) {
-    return runCostBaselines(file, root, RegressionMode::Check, tolerance);
+CostReport checkCostBaselines(const std::string& file, const std::string& root, double tolerance,
+                              const std::vector<const BackendDesc*>& backends) {
+    return runCostBaselines(file, root, RegressionMode::Check, tolerance, backends);
 }
 
 CostReport updateCostBaselines(const std::string& file, const std::string& root) {
-    return runCostBaselines(file, root, RegressionMode::Update, kCostTolerance);
+    return runCostBaselines(file, root, RegressionMode::Update, kCostTolerance, {});
 }
 
 namespace {
@@ -254,6 +262,7 @@ json toJson(const CostReport& r) {
     for (const CostRow& x : r.rows)
         rows.push_back({{"scene", x.scene},
                         {"layout", x.layout},
+                        {"backend", x.backend},
                         {"verdict", costVerdictName(x.verdict)},
                         {"pass", x.passes()},
                         {"baseline", totalsJson(x.baseline)},
@@ -280,8 +289,8 @@ std::string humanSummary(const CostReport& r) {
     s += fmt(" (%.2f s)\n", r.seconds);
     for (const CostRow& x : r.rows) {
         if (x.verdict == CostVerdict::Same) continue;
-        std::string line = fmt("  %-28s %-10s %-9s", x.scene.c_str(), x.layout.c_str(),
-                               costVerdictName(x.verdict));
+        std::string line = fmt("  %-28s %-10s %-7s %-9s", x.scene.c_str(), x.layout.c_str(),
+                               x.backend.c_str(), costVerdictName(x.verdict));
         if (r.updated && x.verdict == CostVerdict::Missing && x.now)
             line = fmt("  %-28s %-10s new       nodes/px %.3f, prims/px %.3f", x.scene.c_str(),
                        x.layout.c_str(), x.now->nodesPerPixel(), x.now->primsPerPixel());

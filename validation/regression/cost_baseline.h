@@ -30,6 +30,8 @@ const char* costVerdictName(CostVerdict v);
 
 struct CostRow {
     std::string scene, layout;
+    std::string backend;  // the backend that measured `now` (every backend of our kernel is
+                          // held to the same baseline: the kernel's work does not depend on it)
     std::optional<CostTotals> baseline, now;
     double nodesChange = 0.0, primsChange = 0.0;  // now / baseline - 1 (inf from a zero baseline)
     CostVerdict verdict = CostVerdict::Same;
@@ -58,10 +60,12 @@ constexpr double kCostTolerance = 0.05;
 CostRow judgeCost(std::string scene, std::string layout, std::optional<CostTotals> baseline,
                   std::optional<CostTotals> now, double tolerance);
 
-// Reads FILE, renders every scene with every layout of the registry and judges each. Throws
-// (one line, naming the file) on a missing or malformed file.
+// Reads FILE, renders every scene with every layout of the registry on each of `backends`
+// (empty: the host's) and judges each against the layout's baseline. Throws (one line, naming
+// the file) on a missing or malformed file.
 CostReport checkCostBaselines(const std::string& file, const std::string& root,
-                              double tolerance = kCostTolerance);
+                              double tolerance = kCostTolerance,
+                              const std::vector<const BackendDesc*>& backends = {});
 
 // Re-measures every scene of FILE with every layout of the registry and rewrites FILE (with
 // this build's version); rows compare the new totals with the old ones.

@@ -123,7 +123,7 @@ GoldenRow rewriteImage(const GoldenImage& g, const std::string& path,
                 g.scene.c_str(), frames.front().tracer.c_str(), f.tracer.c_str(),
                 (unsigned long long)compareImages(film.width, film.height, film.rgb, f.film.rgb, 0)
                     .differing));
-    GoldenRow row{g.scene, g.file, "all layouts", {}, true};
+    GoldenRow row{g.scene, g.file, "all layouts", frames.front().backend, {}, true};
     std::error_code ec;
     if (std::filesystem::exists(path, ec)) {
         int w = 0, h = 0;
@@ -141,7 +141,8 @@ GoldenRow rewriteImage(const GoldenImage& g, const std::string& path,
 // The one skeleton of checking and updating: read the manifest, render each image's scene,
 // compare every tracer with the image, or rewrite the images and the manifest (all or none).
 GoldenReport runGolden(const std::string& dir, const std::string& root, RegressionMode mode,
-                       bool embree, const GoldenTolerance& tolerance) {
+                       bool embree, const GoldenTolerance& tolerance,
+                       const std::vector<const BackendDesc*>& backends) {
     const auto start = std::chrono::steady_clock::now();
     const bool update = mode == RegressionMode::Update;
     GoldenManifest m = readGoldenManifest(dir);
@@ -164,8 +165,8 @@ GoldenReport runGolden(const std::string& dir, const std::string& root, Regressi
         int w = 0, h = 0;
         const std::vector<uint8_t> golden = readPngRgb(path, w, h);
         for (const TracedFrame& f :
-             renderRegressionFrames(g.scene, root, m.render, embree, manifestPath)) {
-            GoldenRow row{g.scene, g.file, f.tracer, {}, false};
+             renderRegressionFrames(g.scene, root, m.render, embree, manifestPath, backends)) {
+            GoldenRow row{g.scene, g.file, f.tracer, f.backend, {}, false};
             row.diff = compareImages(w, h, golden, f.film.rgb, tolerance.channel);
             row.pass = tolerance.passes(row.diff);
             rep.rows.push_back(std::move(row));
@@ -184,12 +185,13 @@ GoldenReport runGolden(const std::string& dir, const std::string& root, Regressi
 }  // namespace
 
 GoldenReport checkGolden(const std::string& dir, const std::string& root, bool embree,
-                         const GoldenTolerance& tolerance) {
-    return runGolden(dir, root, RegressionMode::Check, embree, tolerance);
+                         const GoldenTolerance& tolerance,
+                         const std::vector<const BackendDesc*>& backends) {
+    return runGolden(dir, root, RegressionMode::Check, embree, tolerance, backends);
 }
 
 GoldenReport updateGolden(const std::string& dir, const std::string& root) {
-    return runGolden(dir, root, RegressionMode::Update, false, GoldenTolerance{});
+    return runGolden(dir, root, RegressionMode::Update, false, GoldenTolerance{}, {});
 }
 
 json toJson(const GoldenReport& r) {
@@ -200,6 +202,7 @@ json toJson(const GoldenReport& r) {
         rows.push_back({{"scene", x.scene},
                         {"file", x.file},
                         {"tracer", x.tracer},
+                        {"backend", x.backend},
                         {"pass", x.pass},
                         {"size_mismatch", x.diff.sizeMismatch},
                         {"pixels", x.diff.pixels},
@@ -250,14 +253,16 @@ std::string humanSummary(const GoldenReport& r) {
     for (const GoldenRow& x : r.rows) {
         if (x.pass && x.diff.differing == 0) continue;
         if (x.diff.sizeMismatch) {
-            s += fmt("  %-28s %-10s FAIL: image size differs from the render\n", x.file.c_str(),
-                     x.tracer.c_str());
+            s += fmt("  %-28s %-10s %-7s FAIL: image size differs from the render\n",
+                     x.file.c_str(), x.tracer.c_str(), x.backend.c_str());
             continue;
         }
-        s += fmt("  %-28s %-10s %s: %llu pixels differ, %llu over %d/255, max %d/255 at (%d, %d)\n",
-                 x.file.c_str(), x.tracer.c_str(), x.pass ? "pass" : "FAIL",
-                 (unsigned long long)x.diff.differing, (unsigned long long)x.diff.over,
-                 r.tolerance.channel, x.diff.maxDiff, x.diff.worstX, x.diff.worstY);
+        s +=
+            fmt("  %-28s %-10s %-7s %s: %llu pixels differ, %llu over %d/255, max %d/255 at (%d, "
+                "%d)\n",
+                x.file.c_str(), x.tracer.c_str(), x.backend.c_str(), x.pass ? "pass" : "FAIL",
+                (unsigned long long)x.diff.differing, (unsigned long long)x.diff.over,
+                r.tolerance.channel, x.diff.maxDiff, x.diff.worstX, x.diff.worstY);
     }
     return s;
 }

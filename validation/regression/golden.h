@@ -52,7 +52,7 @@ struct GoldenTolerance {
 };
 
 struct GoldenRow {
-    std::string scene, file, tracer;
+    std::string scene, file, tracer, backend;
     ImageDiff diff;
     bool pass = false;
 };
@@ -72,8 +72,10 @@ struct GoldenReport {
 
 // Reads DIR/golden.json and checks every image against every tracer. Throws (one line, naming
 // the file) on a missing or malformed manifest or image.
+// `backends`: those of our kernel to render with (renderRegressionFrames; empty: the host's).
 GoldenReport checkGolden(const std::string& dir, const std::string& root, bool embree = true,
-                         const GoldenTolerance& tolerance = {});
+                         const GoldenTolerance& tolerance = {},
+                         const std::vector<const BackendDesc*>& backends = {});
 
 // Re-renders every image of DIR/golden.json and writes the PNGs and the manifest (with this
 // build's version), all or none. The layouts must agree bit for bit (else nothing is written:

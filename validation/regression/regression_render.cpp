@@ -62,7 +62,8 @@ json toJson(const RegressionRender& r) {
 std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
                                                 const std::string& root,
                                                 const RegressionRender& render, bool embree,
-                                                const std::string& file) {
+                                                const std::string& file,
+                                                const std::vector<const BackendDesc*>& backends) {
     std::string path = sceneName;
     if (!isGenerated(sceneName)) {
         path = (std::filesystem::path(root) / sceneName).string();
@@ -81,17 +82,22 @@ std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
     LayoutOptions opts;
     opts.build = render.build;
     std::shared_ptr<const Octree> tree = buildSharedOctree(scene, render.build);
+    std::vector<const BackendDesc*> ours = backends;
+    if (ours.empty()) ours.push_back(&hostBackend());
     std::vector<TracedFrame> out;
-    for (const LayoutDesc& l : layouts()) {
-        TracedFrame f;
-        f.tracer = l.name;
-        renderWith(hostBackend(), convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts),
-                   frame, f.film);
-        out.push_back(std::move(f));
-    }
+    for (const BackendDesc* b : ours)
+        for (const LayoutDesc& l : layouts()) {
+            TracedFrame f;
+            f.tracer = l.name;
+            f.backend = b->name;
+            renderWith(*b, convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts), frame,
+                       f.film);
+            out.push_back(std::move(f));
+        }
     if (embree) {
         TracedFrame f;
         f.tracer = referenceBackend().name;
+        f.backend = referenceBackend().name;
         f.usesLayouts = false;
         renderWith(referenceBackend(), bareScene(scene), frame, f.film);
         out.push_back(std::move(f));

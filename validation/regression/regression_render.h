@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/backend/backend.h"
 #include "core/octree/octree.h"
 #include "core/render/film.h"
 
@@ -28,19 +29,21 @@ struct RegressionRender {
 RegressionRender regressionRenderFromJson(const nlohmann::json& j, const std::string& file);
 nlohmann::json toJson(const RegressionRender& r);
 
-// One frame of a scene per tracer: every layout of the registry on the backend list's host
-// backend, in registry order (tracer = the layout's name), then, with `embree`, the reference
-// backend's hits shaded by the same kernel (tracer = its name). `scene` is resolved against
-// `root` unless it is a generator spec; a missing file is an error naming the listing `file`
-// and the root.
+// One frame of a scene per tracer: every layout of the registry on each backend of `backends`
+// (backends of our kernel, available here; empty: the backend list's host backend), backend by
+// backend, layouts in registry order (tracer = the layout's name, backend = the backend's),
+// then, with `embree`, the reference backend's hits shaded by the same kernel (tracer and
+// backend its name). `scene` is resolved against `root` unless it is a generator spec; a
+// missing file is an error naming the listing `file` and the root.
 struct TracedFrame {
     std::string tracer;
+    std::string backend;
     bool usesLayouts = true;  // false: Embree (no traversal cost of ours)
     Film film;
 };
-std::vector<TracedFrame> renderRegressionFrames(const std::string& scene, const std::string& root,
-                                                const RegressionRender& render, bool embree,
-                                                const std::string& file);
+std::vector<TracedFrame> renderRegressionFrames(
+    const std::string& scene, const std::string& root, const RegressionRender& render, bool embree,
+    const std::string& file, const std::vector<const BackendDesc*>& backends = {});
 
 // Reading the regression files (golden.json, cost_baselines.json): one-line IoErrors naming
 // the file and the field; a path that is not a regular file, or a file above
