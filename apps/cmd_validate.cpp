@@ -15,6 +15,7 @@
 #include "core/scene/load_scene.h"
 #include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
+#include "validation/regression/artifacts.h"
 #include "validation/regression/regression_files.h"
 #include "validation/report/diff_image.h"
 #include "validation/report/report.h"
@@ -44,6 +45,8 @@ struct ValidateCliOptions {
     std::string meshes = "meshes";
     std::string golden, costBaseline;  // regression files (docs/VALIDATION.md)
     bool update = false;
+    std::string artifacts;  // what a failing regression check leaves to look at
+    bool artifactsAlways = false;
 };
 
 // The backends under test: Embree (any backend with its own structure) is the reference.
@@ -125,6 +128,14 @@ void runValidate(const ValidateCliOptions& o) {
     const RegressionReport reg =
         runRegressionFiles(o.golden, o.costBaseline, o.update, ".", backendList);
     std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
+    if (!o.artifacts.empty()) {
+        const ArtifactsWritten w = writeRegressionArtifacts(o.artifacts, reg, o.artifactsAlways);
+        if (!w.files.empty())
+            std::fprintf(summaryStream(o.json),
+                         "wrote    %s (%llu failing images, %llu failing cost rows, %zu files)\n",
+                         w.files.front().c_str(), (unsigned long long)w.failingImages,
+                         (unsigned long long)w.failingCostRows, w.files.size());
+    }
     if (o.scene.path.empty()) {
         if (o.golden.empty() && o.costBaseline.empty())
             throw std::runtime_error(
@@ -260,6 +271,14 @@ void registerValidate(CLI::App& app) {
     cmd->add_option("--cost-baseline", o->costBaseline,
                     "Also check every layout's mean nodes visited and primitives tested per "
                     "pixel against FILE (tests/data/cost_baselines.json): fail above +5%");
+    CLI::Option* artifacts = cmd->add_option(
+        "--artifacts", o->artifacts,
+        "When a --golden or --cost-baseline check fails (or a backend is skipped), "
+        "write DIR/index.html with each failing frame, its golden and a diff image, "
+        "and each failing cost row (for a CI job to keep)");
+    cmd->add_flag("--artifacts-always", o->artifactsAlways,
+                  "Write --artifacts DIR on a pass as well")
+        ->needs(artifacts);
     cmd->add_flag("--update", o->update,
                   "Rewrite the files of --golden and --cost-baseline from this build and print "
                   "what changed, instead of checking them");

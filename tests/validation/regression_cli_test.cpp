@@ -154,6 +154,56 @@ TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPas
     check(true);
 }
 
+// --artifacts DIR: a failing image leaves the frame, the golden and a diff for each failing
+// comparison, and index.html naming them; a pass writes nothing (unless --artifacts-always).
+TEST_F(RegressionCli, AFailingImageLeavesItsFramesAndAPageAPassNothing) {
+    octtest::TempDir dir("regression_cli_artifacts");
+    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
+    json kept = json::array();
+    for (const json& e : m["images"])
+        if (e["file"] == "teapot.obj.png") kept.push_back(e);
+    m["images"] = kept;
+    fs::create_directories(dir.path() / "golden");
+    std::ofstream(dir.path() / "golden" / "golden.json") << m.dump(2);
+    fs::copy_file(OCT_SOURCE_DIR "/tests/data/golden/teapot.obj.png",
+                  dir.path() / "golden" / "teapot.obj.png");
+    const std::string golden = (dir.path() / "golden").string();
+    RunResult r = run({"validate", "--golden", golden, "--artifacts", dir.str("pass")});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_FALSE(fs::exists(dir.path() / "pass")) << "a pass wrote artefacts";
+    r = run(
+        {"validate", "--golden", golden, "--artifacts", dir.str("asked"), "--artifacts-always"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_TRUE(fs::exists(dir.path() / "asked" / "index.html"));
+
+    int w = 0, h = 0;
+    std::vector<uint8_t> rgb = oct::readPngRgb(golden + "/teapot.obj.png", w, h);
+    for (int y = 40; y < 50; ++y)
+        for (int x = 40; x < 50; ++x) rgb[3 * size_t(y * w + x)] ^= 0x80;  // 100 pixels off
+    oct::writePng(golden + "/teapot.obj.png", w, h, rgb);
+    r = run({"validate", "--golden", golden, "--artifacts", dir.str("fail")});
+    ASSERT_EQ(r.status, 1) << r.out << r.err;
+    std::ifstream in(dir.path() / "fail" / "index.html");
+    const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (const oct::LayoutDesc& l : oct::layouts()) {
+        const std::string stem = std::string("teapot.obj.png-") + l.name + "-cpu-";
+        for (const char* kind : {"actual", "golden", "diff"}) {
+            const fs::path png = dir.path() / "fail" / (stem + kind + ".png");
+            EXPECT_TRUE(fs::exists(png)) << png;
+            EXPECT_NE(page.find(stem + kind + ".png"), std::string::npos) << stem << kind;
+        }
+        // The diff marks exactly the pixels the rule counts, in red.
+        int dw = 0, dh = 0;
+        const std::vector<uint8_t> diff =
+            oct::readPngRgb((dir.path() / "fail" / (stem + "diff.png")).string(), dw, dh);
+        size_t red = 0;
+        for (size_t p = 0; p + 2 < diff.size(); p += 3)
+            red += diff[p] == 255 && diff[p + 1] == 0 && diff[p + 2] == 0;
+        EXPECT_EQ(red, 100u) << l.name;
+    }
+    EXPECT_NE(page.find("100 over 1/255"), std::string::npos) << page.substr(0, 600);
+}
+
 TEST_F(RegressionCli, NothingToDoIsRefused) {
     RunResult r = run({"validate", "--update"});
     EXPECT_NE(r.status, 0);

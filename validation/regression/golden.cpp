@@ -123,7 +123,7 @@ GoldenRow rewriteImage(const GoldenImage& g, const std::string& path,
                 g.scene.c_str(), frames.front().tracer.c_str(), f.tracer.c_str(),
                 (unsigned long long)compareImages(film.width, film.height, film.rgb, f.film.rgb, 0)
                     .differing));
-    GoldenRow row{g.scene, g.file, "all layouts", frames.front().backend, {}, true};
+    GoldenRow row{g.scene, g.file, "all layouts", frames.front().backend, {}, true, {}};
     std::error_code ec;
     if (std::filesystem::exists(path, ec)) {
         int w = 0, h = 0;
@@ -166,9 +166,10 @@ GoldenReport runGolden(const std::string& dir, const std::string& root, Regressi
         const std::vector<uint8_t> golden = readPngRgb(path, w, h);
         for (const TracedFrame& f :
              renderRegressionFrames(g.scene, root, m.render, embree, manifestPath, backends)) {
-            GoldenRow row{g.scene, g.file, f.tracer, f.backend, {}, false};
+            GoldenRow row{g.scene, g.file, f.tracer, f.backend, {}, false, {}};
             row.diff = compareImages(w, h, golden, f.film.rgb, tolerance.channel);
             row.pass = tolerance.passes(row.diff);
+            if (!row.pass) row.images = {f.film.width, f.film.height, w, h, f.film.rgb, golden};
             rep.rows.push_back(std::move(row));
         }
     }

@@ -51,10 +51,20 @@ struct GoldenTolerance {
     bool passes(const ImageDiff& d) const;
 };
 
+// The pixels of a failing comparison, for the artefacts (validation/regression/artifacts.h):
+// the frame rendered and the golden image, RGB8 row-major.
+struct GoldenImages {
+    int width = 0, height = 0;              // the frame's
+    int goldenWidth = 0, goldenHeight = 0;  // the golden image's (they differ on a size
+                                            // mismatch)
+    std::vector<uint8_t> actual, golden;
+};
+
 struct GoldenRow {
     std::string scene, file, tracer, backend;
     ImageDiff diff;
     bool pass = false;
+    GoldenImages images;  // only for a failing row of a check (empty otherwise)
 };
 
 struct GoldenReport {
