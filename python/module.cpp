@@ -4,12 +4,14 @@
 // same calls), so a result here is bit for bit the file the matching command writes. Arguments
 // are checked before any work (python/arrays.h); octrace's errors become Python's
 // (python/errors.h); the GIL is released while octrace traces, builds or certifies.
+#include <omp.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -41,22 +43,50 @@ using namespace pybind11::literals;
 
 // --- option values, checked as the command line checks them -------------------------------
 
+// %g: integers without a fraction ("0", "21"), large bounds short ("1.8e+19").
+std::string numberText(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return buf;
+}
+
 // A number option in [lo, hi]: a ValueError naming the option otherwise (NaN included).
 template <class T>
 T inRange(const char* name, double value, double lo, double hi) {
     if (!(value >= lo && value <= hi))
-        throw py::value_error(std::string(name) + ": " +
-                              py::str(py::float_(value)).cast<std::string>() + " is not in [" +
-                              py::str(py::float_(lo)).cast<std::string>() + ", " +
-                              py::str(py::float_(hi)).cast<std::string>() + "]");
+        throw py::value_error(std::string(name) + ": " + numberText(value) + " is not in [" +
+                              numberText(lo) + ", " + numberText(hi) + "]");
     return T(value);
 }
 
-// threads=None leaves OpenMP's default (OMP_NUM_THREADS or every core); else at most
-// maxThreads(), as --threads.
-void applyThreads(const std::optional<int>& threads) {
-    if (threads) setCpuThreads(inRange<int>("threads", *threads, 1, maxThreads()));
+// A Python int as uint64 (count=, seed=): a negative one or one past 2^64 - 1 is a ValueError
+// naming it, not pybind11's "incompatible function arguments".
+uint64_t unsignedOf(const char* name, const py::int_& value) {
+    if (value < py::int_(0) || value > py::int_(UINT64_MAX))
+        throw py::value_error(std::string(name) + ": " + py::repr(value).cast<std::string>() +
+                              " is not in [0, 2^64 - 1]");
+    return value.cast<uint64_t>();
 }
+
+// threads=None leaves OpenMP's default (OMP_NUM_THREADS or every core); else at most
+// maxThreads(), as --threads, for this call only: the count in force before is restored when
+// the call ends (OpenMP keeps it per calling thread, and a later call without threads= must
+// not inherit it).
+class ThreadsForCall {
+public:
+    explicit ThreadsForCall(const std::optional<int>& threads) {
+        if (!threads) return;
+        const int n = inRange<int>("threads", *threads, 1, maxThreads());
+        saved_ = omp_get_max_threads();
+        setCpuThreads(n);
+    }
+    ~ThreadsForCall() { setCpuThreads(saved_); }  // 0: nothing was changed
+    ThreadsForCall(const ThreadsForCall&) = delete;
+    ThreadsForCall& operator=(const ThreadsForCall&) = delete;
+
+private:
+    int saved_ = 0;
+};
 
 const LayoutDesc& layoutNamed(const std::string& name) {
     for (const LayoutDesc& d : layouts())
@@ -102,6 +132,9 @@ CameraOptions cameraOf(const std::pair<int, int>& size, const py::object& eye,
     c.target = optionalVec3("target", target);
     c.up = optionalVec3("up", up);
     c.light = optionalVec3("light", light);
+    if (!(fov > 0.0 && fov < 180.0))
+        throw py::value_error("fov: " + numberText(fov) +
+                              " must be strictly between 0 and 180 degrees");
     c.fovDegrees = float(fov);
     makeFrame({{-1, -1, -1}, {1, 1, 1}}, c);  // its FrameError before any work
     return c;
@@ -135,8 +168,9 @@ float radiusOf(const std::optional<double>& radius) {
     return r;
 }
 
+// A path as os.fsdecode gives it: str, bytes or os.PathLike.
 std::string pathText(const py::object& path) {
-    return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+    return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -190,7 +224,6 @@ std::unique_ptr<SceneObject> trianglesObject(const py::handle& array, const std:
     const auto rows = checkedArray<float>(array, "triangles", {{3, 3}, {9}},
                                           "float32 (M, 3, 3) or (M, 9): v0 v1 v2 per row");
     const LayoutOptions lo = a.layout();
-    if (a.radius) throw py::value_error("radius: a triangle mesh takes none");
     return std::make_unique<SceneObject>(sceneFromTriangles(rows.data(), rowsOf(rows), name), lo);
 }
 
@@ -212,7 +245,7 @@ py::dict castRays(SceneObject& s, const py::handle& raysArg, const std::string& 
                                            "with tmin 0 and tmax inf");
     const LayoutDesc& layout = layoutNamed(layoutName);
     const BackendDesc& backend = backendNamed(backendName);
-    applyThreads(threads);
+    const ThreadsForCall threadsForCall(threads);
     const uint64_t n = rowsOf(given);
     const bool cost = backend.usesLayouts;  // Embree counts no traversal cost
     checkMemory(saturatingMul(n, (given.shape(1) == 6 ? 32 : 0) + 8 + (cost ? 8 : 0)),
@@ -261,7 +294,7 @@ py::dict render(SceneObject& s, const std::pair<int, int>& size, const std::stri
     const CameraOptions cam = cameraOf(size, eye, target, up, fov, light);
     const LayoutDesc& layout = layoutNamed(layoutName);
     const BackendDesc& backend = backendNamed(backendName);
-    applyThreads(threads);
+    const ThreadsForCall threadsForCall(threads);
     const uint64_t pixels = uint64_t(cam.width) * uint64_t(cam.height);
     checkMemory(saturatingMul(pixels, kFilmBytesPerPixel + 8),
                 "render at " + std::to_string(cam.width) + "x" + std::to_string(cam.height),
@@ -329,7 +362,10 @@ py::object explain(SceneObject& s, const py::object& pixel, const py::object& ra
         x = p.first;
         y = p.second;
     }
-    if (row.empty()) checkPixelInImage(x, y, cam.width, cam.height);
+    if (row.empty() && (x < 0 || y < 0 || x >= cam.width || y >= cam.height))
+        throw py::value_error("pixel: (" + std::to_string(x) + ", " + std::to_string(y) +
+                              ") is outside the " + std::to_string(cam.width) + "x" +
+                              std::to_string(cam.height) + " image (size=)");
     std::string json;
     {
         py::gil_scoped_release free;
@@ -354,14 +390,15 @@ py::object info(SceneObject& s) {
 
 // --- the standard ray sets and certification ---------------------------------------------------
 
-py::tuple standardRays(SceneObject& s, const std::string& sets, uint64_t count, uint64_t seed,
-                       const std::pair<int, int>& size, const py::object& eye,
-                       const py::object& target, const py::object& up, double fov,
-                       const py::object& light) {
+py::tuple standardRays(SceneObject& s, const std::string& sets, const py::int_& countArg,
+                       const py::int_& seedArg, const std::pair<int, int>& size,
+                       const py::object& eye, const py::object& target, const py::object& up,
+                       double fov, const py::object& light) {
     RaySetSpec spec;
     spec.camera = cameraOf(size, eye, target, up, fov, light);
+    const uint64_t count = unsignedOf("count", countArg);
     spec.count = inRange<uint64_t>("count", double(count), 0, double(kMaxSeededRays));
-    spec.seed = seed;
+    spec.seed = unsignedOf("seed", seedArg);
     std::vector<std::string> notes;
     spec.sets = chooseRaySets(sets, s.scene(), notes);
     StandardRays made;
@@ -445,7 +482,7 @@ py::dict certify(SceneObject& s, const py::handle& raysArg, const py::handle& tA
         throw py::value_error("query: '" + query + "' is not closest or anyhit");
     o.query.ownSets = query == "anyhit" ? QueryKind::AnyHit : QueryKind::Closest;
     o.raysName = "the rays";
-    applyThreads(threads);
+    const ThreadsForCall threadsForCall(threads);
     const std::optional<RayManifest> manifest = manifestOf(manifestArg);
     checkMemory(saturatingMul(n, 96), "certify of " + std::to_string(n) + " rays",
                 "certify fewer rays a call");
@@ -458,7 +495,10 @@ py::dict certify(SceneObject& s, const py::handle& raysArg, const py::handle& tA
     {
         py::gil_scoped_release free;
         run.emplace(certifyRows(s.scene(), std::move(rows), hits, manifest, o));
-        report = toJson(run->report).dump();
+        run->report.hits = hits.primIds ? "t_hit, primitive_ids" : "t_hit";  // the arrays
+        nlohmann::json j = toJson(run->report);
+        j["baseline"] = nullptr;  // as certify --json without --baseline
+        report = j.dump();
         summary = humanSummary(run->report);
     }
     RayCertification& r = run->report.result;

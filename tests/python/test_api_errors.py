@@ -170,3 +170,18 @@ def test_a_malformed_manifest_is_a_value_error(teapot):
         octrace.certify(teapot, rays, t, manifest={"format": "nonsense"})
     with pytest.raises(FileNotFoundError):
         octrace.certify(teapot, rays, t, manifest="/nonexistent/R.json")
+
+
+def test_a_bytes_path_is_a_path(teapot_path):
+    assert len(octrace.Scene(os.fsencode(teapot_path))) == 992
+
+
+def test_numbers_are_named_in_the_options_spelling(teapot):
+    with pytest.raises(ValueError, match=r"count: -1 is not in"):
+        octrace.rays(teapot, count=-1)
+    with pytest.raises(ValueError, match=r"threads: 0 is not in \[1, "):
+        teapot.cast_rays(np.zeros((1, 8), np.float32), threads=0)
+    with pytest.raises(ValueError, match="fov: 200 must be"):
+        teapot.render(fov=200)
+    with pytest.raises(ValueError, match=r"pixel: \(9, 0\) is outside the 8x8 image"):
+        teapot.explain(pixel=(9, 0), size=(8, 8))
