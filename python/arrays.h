@@ -16,6 +16,9 @@ namespace py = pybind11;
 
 // "(3, 8) float64", as messages name what was given.
 std::string describeArray(const py::array& a);
+// A copy of `bytes` for argument `what` against the memory left (core/system/resources.h):
+// MemoryError naming it when it does not fit.
+void checkCopyMemory(const std::string& what, uint64_t bytes);
 
 // `value` as a C-ordered array of dtype T (native byte order) whose dimensions after the first
 // are one of `rowShapes` ({} for a 1-D array). A C-contiguous array is used in place; another
@@ -37,10 +40,17 @@ py::array_t<T, py::array::c_style> checkedArray(const py::handle& value, const s
         for (size_t k = 0; k < row.size(); ++k) same = same && a.shape(ssize_t(k) + 1) == row[k];
         shapeOk = shapeOk || same;
     }
-    if (!a.dtype().is(py::dtype::of<T>()) || !shapeOk)
+    // equal, not is: a dtype that went through pickle (multiprocessing, joblib) is another
+    // object of the same type; '>f4' is not equal to the native '<f4'.
+    if (!a.dtype().equal(py::dtype::of<T>()) || !shapeOk)
         throw py::value_error(what + " must be " + expected + ", not " + describeArray(a));
-    // ensure: the array itself when C-contiguous, else a C-ordered copy of the same dtype.
-    return py::array_t<T, py::array::c_style>::ensure(a);
+    // ensure: the array itself when C-contiguous, else a C-ordered copy of the same dtype, sized
+    // against the memory left first (a strided view of 2^40 rows over one row is cheap to make
+    // and impossible to copy; pybind11's ensure swallows the MemoryError and returns null).
+    if (!(a.flags() & py::array::c_style)) checkCopyMemory(what, uint64_t(a.size()) * sizeof(T));
+    auto out = py::array_t<T, py::array::c_style>::ensure(a);
+    if (!out) throw py::error_already_set();
+    return out;
 }
 
 // Rows of `array` (its first dimension).

@@ -12,6 +12,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -168,9 +169,14 @@ float radiusOf(const std::optional<double>& radius) {
     return r;
 }
 
-// A path as os.fsdecode gives it: str, bytes or os.PathLike.
+// A path's bytes as os.fsencode gives them (str, bytes or os.PathLike; a name that is not UTF-8
+// keeps its bytes). An embedded NUL is refused as open() refuses it: C would read the prefix.
 std::string pathText(const py::object& path) {
-    return py::module_::import("os").attr("fsdecode")(path).cast<std::string>();
+    const std::string bytes =
+        py::module_::import("os").attr("fsencode")(path).cast<py::bytes>().cast<std::string>();
+    if (bytes.find('\0') != std::string::npos)
+        throw py::value_error("path: embedded null byte in " + py::repr(path).cast<std::string>());
+    return bytes;
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -224,7 +230,12 @@ std::unique_ptr<SceneObject> trianglesObject(const py::handle& array, const std:
     const auto rows = checkedArray<float>(array, "triangles", {{3, 3}, {9}},
                                           "float32 (M, 3, 3) or (M, 9): v0 v1 v2 per row");
     const LayoutOptions lo = a.layout();
-    return std::make_unique<SceneObject>(sceneFromTriangles(rows.data(), rowsOf(rows), name), lo);
+    Scene scene;
+    {
+        py::gil_scoped_release free;  // `rows` keeps the array alive
+        scene = sceneFromTriangles(rows.data(), rowsOf(rows), name);
+    }
+    return std::make_unique<SceneObject>(std::move(scene), lo);
 }
 
 std::unique_ptr<SceneObject> pointsObject(const py::handle& array,
@@ -414,7 +425,8 @@ py::tuple standardRays(SceneObject& s, const std::string& sets, const py::int_& 
     notes.insert(notes.end(), made.rays.notes.begin(), made.rays.notes.end());
     // What was left out or drawn again, as the CLI's "note" lines: Python warnings.
     for (const std::string& note : notes)
-        PyErr_WarnEx(PyExc_UserWarning, ("octrace.rays: " + note).c_str(), 1);
+        if (PyErr_WarnEx(PyExc_UserWarning, ("octrace.rays: " + note).c_str(), 1) < 0)
+            throw py::error_already_set();  // warnings made errors (-W error)
     const ssize_t rows = ssize_t(made.rays.count());
     py::array_t<float> rays = ownedArray(std::move(made.rays.rays), {rows, 8});
     return py::make_tuple(rays, jsonToPython(toJson(made.manifest).dump()));
@@ -435,11 +447,25 @@ std::optional<RayManifest> manifestOf(const py::object& manifest) {
         return manifestFromJson(j, "manifest");
     }
     const std::string path = pathText(manifest);
-    if (!std::filesystem::exists(path)) {
-        setOsError(ENOENT, ("cannot open the ray manifest '" + path +
-                            "': No such file or directory; check the path, or give the dict "
-                            "octrace.rays returned")
-                               .c_str());
+    // A file that cannot be opened is an OSError as for a scene (readManifest's IoError, a
+    // ValueError, is for one that was read and is malformed).
+    std::error_code ec;
+    const auto status = std::filesystem::status(path, ec);
+    int error = 0;
+    if (status.type() == std::filesystem::file_type::not_found)
+        error = ENOENT;
+    else if (ec)
+        error = ec.value();
+    else if (std::filesystem::is_directory(status))
+        error = EISDIR;
+    else if (FILE* f = std::fopen(path.c_str(), "rb"))
+        std::fclose(f);
+    else
+        error = errno;
+    if (error != 0) {
+        setOsError(error, ("cannot open the ray manifest '" + path + "': " + std::strerror(error) +
+                           "; check the path, or give the dict octrace.rays returned")
+                              .c_str());
         throw py::error_already_set();
     }
     return readManifest(path);

@@ -1,6 +1,7 @@
 # --- python: the octrace module (pybind11), built into build/python/ ---------------------------
 # PYTHONPATH=build/python /usr/bin/python3 -c 'import octrace' after a build; `cmake --install`
-# puts it under lib/python3.X/site-packages of the prefix. Debian's pybind11 (pybind11-dev) and
+# puts it under lib/python3.X/dist-packages of the prefix (site-packages for a Python without
+# Debian's layout). Debian's pybind11 (pybind11-dev) and
 # Python 3 with numpy; OCT_PYTHON (top CMakeLists.txt) is on by default when pybind11 is found.
 # The interpreter is Debian's /usr/bin/python3 when present (the one with Debian's numpy and
 # pytest), not whichever python3 comes first on PATH; -DOCT_PYTHON_EXECUTABLE=... picks another.
@@ -18,8 +19,16 @@ set_target_properties(octrace_python PROPERTIES OUTPUT_NAME octrace
 configure_file(${PROJECT_SOURCE_DIR}/python/octrace.pyi ${PROJECT_BINARY_DIR}/python/octrace.pyi
                COPYONLY)
 
+# Under the prefix where the interpreter looks: Debian's python3 searches
+# PREFIX/lib/python3.X/dist-packages for /usr/local (site-packages is upstream's name).
+execute_process(COMMAND ${Python_EXECUTABLE} -c
+                "import sys; print('dist' if any(p.endswith('dist-packages') for p in sys.path) else 'site')"
+                OUTPUT_VARIABLE OCT_PYTHON_PACKAGES OUTPUT_STRIP_TRAILING_WHITESPACE)
+if(NOT OCT_PYTHON_PACKAGES)
+  set(OCT_PYTHON_PACKAGES site)
+endif()
 set(OCT_PYTHON_INSTALL_DIR
-    "lib/python${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}/site-packages"
+    "lib/python${Python_VERSION_MAJOR}.${Python_VERSION_MINOR}/${OCT_PYTHON_PACKAGES}-packages"
     CACHE STRING "Where cmake --install puts the octrace module, under the prefix")
 install(TARGETS octrace_python LIBRARY DESTINATION ${OCT_PYTHON_INSTALL_DIR})
 install(FILES ${PROJECT_SOURCE_DIR}/python/octrace.pyi DESTINATION ${OCT_PYTHON_INSTALL_DIR})

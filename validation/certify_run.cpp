@@ -3,6 +3,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/io/ray_file.h"
+
 namespace oct {
 
 CertifyRun certifyRows(const Scene& scene, std::vector<float> rows, const HitArrays& hits,
@@ -20,6 +22,9 @@ CertifyRun certifyRows(const Scene& scene, std::vector<float> rows, const HitArr
             "the hits hold " + std::to_string(hits.t.size()) + " distances and " +
             std::to_string(hits.primIds ? hits.prim.size() : n) + " primitive ids for " +
             std::to_string(n) + " rays in " + o.raysName + "; give one of each per ray");
+    // trace's rule on every row (the CLI's reader applies it to a file; arrays from the Python
+    // module and the façade come here unchecked): a negative tmin would reach Embree's assert.
+    checkRayRows(rows.data(), n, o.raysName);
     if (manifest) {
         checkManifestRows(*manifest, n, o.raysName);
         checkSameScene(*manifest, scene, o.raysName);  // before building anything

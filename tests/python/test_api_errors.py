@@ -185,3 +185,48 @@ def test_numbers_are_named_in_the_options_spelling(teapot):
         teapot.render(fov=200)
     with pytest.raises(ValueError, match=r"pixel: \(9, 0\) is outside the 8x8 image"):
         teapot.explain(pixel=(9, 0), size=(8, 8))
+
+
+def test_certify_refuses_rows_trace_refuses_instead_of_aborting(teapot):
+    rays = np.tile(np.array([0, 0, 40, 0, 0, -1, 0, np.inf], np.float32), (4, 1))
+    rays[1, 6] = -1  # a negative tmin: Embree, the reference, asserts on it
+    with pytest.raises(ValueError, match="row 1: tmin"):
+        octrace.certify(teapot, rays, np.full(4, np.inf, np.float32))
+
+
+def test_a_view_too_large_to_copy_is_a_memory_error(teapot):
+    from numpy.lib.stride_tricks import as_strided
+    huge = as_strided(np.zeros(8, np.float32), shape=(2**40, 8), strides=(0, 4))
+    with pytest.raises(MemoryError, match="rays"):
+        teapot.cast_rays(huge)
+
+
+def test_warnings_made_errors_raise_the_warning(teapot):
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning, match="slivers left out"):
+            octrace.rays(teapot, count=100, size=(4, 4))
+
+
+def test_an_array_that_went_through_pickle_is_accepted(teapot):
+    import pickle
+    rays = np.tile(np.array([0, 0, 40, 0, 0, -1, 0, np.inf], np.float32), (3, 1))
+    again = pickle.loads(pickle.dumps(rays))
+    assert teapot.cast_rays(again)["t_hit"].tobytes() == teapot.cast_rays(rays)["t_hit"].tobytes()
+
+
+def test_paths_keep_their_bytes_and_refuse_a_null(teapot_path, tmp_path):
+    odd = os.path.join(os.fsencode(str(tmp_path)), b"caf\xe9.obj")
+    with open(odd, "wb") as f:
+        f.write(open(teapot_path, "rb").read())
+    assert len(octrace.Scene(odd)) == 992
+    assert len(octrace.Scene(os.fsdecode(odd))) == 992
+    with pytest.raises(ValueError, match="null byte"):
+        octrace.Scene(teapot_path + "\0/other.obj")
+
+
+def test_a_manifest_path_that_is_a_directory_is_an_os_error(teapot, tmp_path):
+    rays = np.tile(np.array([0, 0, 40, 0, 0, -1, 0, np.inf], np.float32), (2, 1))
+    with pytest.raises(IsADirectoryError):
+        octrace.certify(teapot, rays, np.full(2, np.inf, np.float32), manifest=str(tmp_path))
