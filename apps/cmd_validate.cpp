@@ -141,7 +141,7 @@ void runValidate(const ValidateCliOptions& o) {
             throw std::runtime_error(
                 "validate needs a SCENE (or --table1, --golden DIR, --cost-baseline FILE); see "
                 "--help");
-        nlohmann::json j = {{"pass", true}};
+        nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 1}};
         addToJson(j, reg);
         if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
         if (!reg.passes())

@@ -599,6 +599,8 @@ std::string explainJson(const Explanation& e) {
     auto v3 = [](Vec3 v) { return json::array({v.x, v.y, v.z}); };
     auto tnum = [](float t) { return std::isfinite(t) ? json(t) : json(nullptr); };
     json j;
+    j["format"] = "octrace-explain";  // the schema, so a reader can refuse one it does not know
+    j["version"] = 1;
     j["scene"] = e.scene;
     j["primitives"] = e.primitives;
     j["kind"] = primKindName(e.kind);

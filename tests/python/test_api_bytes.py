@@ -99,7 +99,9 @@ def test_render_with_a_camera_of_ones_own(teapot, teapot_path, cli, tmp_path):
 
 def test_explain_is_explain_json(teapot, teapot_path, cli, tmp_path):
     cli("explain", teapot_path, "--pixel", "20,12", "--size", "40x30", "--json", tmp_path / "e.json")
-    assert teapot.explain(pixel=(20, 12), size=(40, 30)) == json_file(tmp_path / "e.json")
+    explained = teapot.explain(pixel=(20, 12), size=(40, 30))
+    assert explained == json_file(tmp_path / "e.json")
+    assert (explained["format"], explained["version"]) == ("octrace-explain", 1)
     ray = "0,0,40,0,0,-1"
     cli("explain", teapot_path, "--ray", ray, "--json", tmp_path / "r.json")
     assert teapot.explain(ray=(0, 0, 40, 0, 0, -1)) == json_file(tmp_path / "r.json")
@@ -115,7 +117,9 @@ def without_timings(value):
 def test_info_is_info_json(teapot, teapot_path, cli, tmp_path):
     cli("info", teapot_path, "--max-depth", "5", "--json", tmp_path / "i.json")
     scene = octrace.Scene(teapot_path, max_depth=5)
-    assert without_timings(scene.info()) == without_timings(json_file(tmp_path / "i.json"))
+    info = scene.info()
+    assert without_timings(info) == without_timings(json_file(tmp_path / "i.json"))
+    assert (info["format"], info["version"]) == ("octrace-info-report", 1)
 
 
 def test_a_scene_from_the_triangles_traces_as_the_file(teapot, teapot_rays):

@@ -27,6 +27,7 @@ def test_octraces_own_hits_pass(teapot, traced):
     rep = octrace.certify(teapot, rays, t, prim, manifest)
     assert rep["pass"] is True and rep["outcome"] == "PASS"
     assert rep["hits"] == "t_hit, primitive_ids" and rep["baseline"] is None
+    assert (rep["format"], rep["version"]) == ("octrace-certify-report", 1)
     assert rep["classes"].shape == (len(rays),) and rep["classes"].dtype == np.uint8
     assert not (rep["classes"] == 3).any()
     assert set(rep["result"]["sets"]) >= {"camera", "shadow", "edges", "vertices"}

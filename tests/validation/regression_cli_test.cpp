@@ -45,6 +45,8 @@ TEST_F(RegressionCli, CommittedFilesPass) {
     json j;
     ASSERT_NO_THROW(j = json::parse(r.out)) << r.out;
     EXPECT_TRUE(j["pass"].get<bool>());
+    EXPECT_EQ(j["format"], "octrace-validate-report");
+    EXPECT_EQ(j["version"], 1);
     EXPECT_TRUE(j["golden"]["pass"].get<bool>());
     EXPECT_TRUE(j["cost_baseline"]["pass"].get<bool>());
     EXPECT_NE(r.err.find("golden "), std::string::npos) << r.err;

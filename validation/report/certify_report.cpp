@@ -209,7 +209,9 @@ std::string verdictLines(const CertifyReport& r) {
 
 }  // namespace
 
-json toJson(const CertifyReport& r) {
+namespace {
+
+json certifyReportBody(const CertifyReport& r) {
     json topo = nullptr;
     if (r.topology)
         topo = {{"closed", r.topology->closed},
@@ -239,6 +241,16 @@ json toJson(const CertifyReport& r) {
             {"reference", referenceJson(r.referenceSeconds)},
             {"result", toJson(r.result, r.policy.maxAmbiguousRate)},
             {"seconds", {{"check", r.checkSeconds}, {"total", r.seconds}}}};
+}
+
+}  // namespace
+
+json toJson(const CertifyReport& r) {
+    json j = certifyReportBody(r);
+    // The schema of the report, so that a reader can refuse one it does not know.
+    j["format"] = "octrace-certify-report";
+    j["version"] = 1;
+    return j;
 }
 
 std::string humanSummary(const CertifyReport& r) {

@@ -89,7 +89,9 @@ std::string raySetText(const ValidationReport& r) {
 
 }  // namespace
 
-json toJson(const ValidationReport& r) {
+namespace {
+
+json validationReportBody(const ValidationReport& r) {
     const double rate = r.policy.maxAmbiguousRate;
     json runs = json::array();
     for (const RunReport& run : r.runs) {
@@ -119,6 +121,16 @@ json toJson(const ValidationReport& r) {
                                          : "INCOMPLETE"},
               {"seconds", r.seconds}};
     for (const SceneCheck* c : sceneChecks()) j.update(c->result(r).json);
+    return j;
+}
+
+}  // namespace
+
+json toJson(const ValidationReport& r) {
+    json j = validationReportBody(r);
+    // The schema of the report, so that a reader can refuse one it does not know.
+    j["format"] = "octrace-validate-report";
+    j["version"] = 1;
     return j;
 }
 

@@ -75,6 +75,8 @@ nlohmann::json sceneInfo(const Scene& scene, const LayoutOptions& lo,
     Octree tree = buildOctree(scene, lo.build);
     bool tris = scene.kind == PrimKind::Triangles;
     nlohmann::json j;
+    j["format"] = "octrace-info-report";  // the schema, so a reader can refuse one it does not know
+    j["version"] = 1;
     j["scene"] = {{"name", scene.name},
                   {"kind", primKindName(scene.kind)},
                   {"primitives", scene.primitiveCount()},
