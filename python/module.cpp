@@ -98,8 +98,12 @@ const LayoutDesc& layoutNamed(const std::string& name) {
 // A backend of the list, or "auto" (CUDA when a device answers, else the CPU) as --backend.
 // An unknown name is a ValueError; one that cannot run here a RuntimeError saying why.
 const BackendDesc& backendNamed(const std::string& name) {
-    if (name != "auto" && !findBackend(name))
+    const BackendDesc* b = findBackend(name);
+    if (name != "auto" && !b)
         throw py::value_error("backend: unknown '" + name + "' (" + backendNames() + ", auto)");
+    std::string why;
+    if (b && !b->available(why))
+        throw std::runtime_error("backend: '" + name + "' cannot run here: " + why);
     std::string note;
     return resolveBackend(name, note);
 }

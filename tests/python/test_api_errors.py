@@ -230,3 +230,12 @@ def test_a_manifest_path_that_is_a_directory_is_an_os_error(teapot, tmp_path):
     rays = np.tile(np.array([0, 0, 40, 0, 0, -1, 0, np.inf], np.float32), (2, 1))
     with pytest.raises(IsADirectoryError):
         octrace.certify(teapot, rays, np.full(2, np.inf, np.float32), manifest=str(tmp_path))
+
+
+def test_a_backend_that_cannot_run_here_is_a_runtime_error_saying_why(teapot):
+    rays = np.tile(np.array([0, 0, 40, 0, 0, -1, 0, np.inf], np.float32), (2, 1))
+    for name in octrace.backends():
+        try:
+            teapot.cast_rays(rays, backend=name)
+        except RuntimeError as e:
+            assert str(e).startswith(f"backend: '{name}' cannot run here: "), str(e)
