@@ -65,6 +65,7 @@ struct BenchOptions {
     uint32_t cloudMaxPrims = 1;
     LayoutLimitOptions limits;
     bool progress = true;
+    bool pairedReference = false;
 };
 
 // "1000", "64k" (x 1000), "1M" (x 1,000,000).
@@ -225,6 +226,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     s.limits.hash = o.limits.hashParams();
     s.limits.linearBudget = o.limits.linearBudgetBytes();
     s.progress = o.progress;
+    s.pairedReference = o.pairedReference;
 
     json machine = machineJson(deviceName);
     std::vector<std::string> backendNames, layoutNames, sceneNames;
@@ -246,6 +248,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
                    {"linear_budget_bytes", o.limits.linearBudgetBytes()},
                    {"hash_budget_bytes", o.limits.hashParams().budgetBytes},
                    {"node_budget", o.limits.nodeBudget},
+                   {"paired_reference", o.pairedReference},
                    {"notes", meshNotes}};
 
     std::printf(
@@ -254,7 +257,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
         s.scenes.size(), joined(layoutNames).c_str(), joined(backendNames).c_str(), s.width,
         s.height, o.warmup, o.repeats, machine["cpu_model"].get<std::string>().c_str(),
         omp_get_max_threads(), deviceName.empty() ? "" : (", GPU " + deviceName).c_str());
-    int failed = runSweep(s, machine, config, dir);
+    const int failed = runSweep(s, machine, config, dir).failed;
     if (failed > 0)
         throw CommandVerdict(
             kExitFail,
@@ -311,6 +314,10 @@ void registerBench(CLI::App& app) {
         ->check(numberIn(1, 1u << 30));
     addLayoutLimitOptions(*cmd, o->limits, "skipped");
     cmd->add_flag("!--no-progress", o->progress, "No progress lines on stderr");
+    cmd->add_flag("--paired-reference", o->pairedReference,
+                  "Trace each timed frame of our layouts next to one of Embree's, on the process's "
+                  "CPU clock; ratio_to_embree is the median of the pairs' ratios (with --threads "
+                  "1 it survives a loaded machine)");
     cmd->callback([o, cmd] { runBench(*o, cmd); });
 }
 
