@@ -146,7 +146,7 @@ BaselineRun prepareBaseline(BenchOptions& o, const CLI::App& cmd) {
     if (b.stored) takeFileOptions(o, cmd, *b.stored);
     // One thread unless asked: the paired frames' CPU clock counts one thread's work exactly;
     // two threads also count the time one spins at the frame's end waiting for the other
-    // (spread x3.4 against x1.14 with one; bench/README.md).
+    // (largest change between runs x3.4, against x1.14 with one; bench/README.md).
     if (cmd.count("--threads") == 0 && !b.stored) o.trace.threads = 1;
     const bool meshesFromFile = b.stored && cmd.count("--meshes") == 0;
     if (meshesFromFile) dropAbsentMeshes(o, b.notRun);

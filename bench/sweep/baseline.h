@@ -20,11 +20,13 @@ constexpr const char* kBaselineFormat = "octrace-bench-baseline";
 constexpr int kBaselineVersion = 1;
 
 // The rule. Time: a case fails when its ratio to Embree grew by more than the factor. The run-to-
-// run spread of the ratio on this project's 2-core machine under load (8 interleaved runs, every
-// pair of runs compared): 95th percentile of |log change| 0.048, largest 0.129 (x1.14); the
-// factor is twice the largest, e^0.26 = 1.30 (bench/README.md has the runs). Counts: fail above
+// run spread of the ratio on this project's 2-core machine (bench/baseline-spread, 16 runs of
+// bench/baselines/cpu.json at a load of 8, every pair of runs compared, 1440 changes): 95th
+// percentile of |log change| 0.098, largest 0.168 (x1.18); during `ctest -j2` of the whole suite
+// (15 runs) the largest change against the file was 0.141. The factor is twice the largest,
+// e^0.336 = 1.40 (bench/README.md, "Performance baselines", has every run). Counts: fail above
 // +5 %, as the cost baselines of `validate --cost-baseline` (validation/regression).
-constexpr double kBaselineTimeFactor = 1.30;
+constexpr double kBaselineTimeFactor = 1.40;
 constexpr double kBaselineCountTolerance = 0.05;
 
 struct BaselineRule {
