@@ -122,7 +122,9 @@ void dropAbsentMeshes(BenchOptions& o, NotRun& notRun) {
             continue;
         }
         const std::string scene = std::filesystem::path(m).filename().string();
-        notRun.scenes[scene] = "mesh not found: " + m + " (run meshes/fetch for a fetched one)";
+        notRun.scenes[scene] = "mesh not found: " + m +
+                               " (a relative path starts at the working folder: the committed "
+                               "files' at the repository root; a fetched mesh: meshes/fetch)";
         std::fprintf(stderr, "bench: baseline: %s not found: its cases are skipped\n", m.c_str());
     }
     o.meshes = kept.empty() ? "none" : commaList(kept);
