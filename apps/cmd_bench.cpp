@@ -1,5 +1,6 @@
 // octrace bench: the paper's experiment as a sweep (bench/sweep/sweep.h does the work). This
-// file parses the options, picks the default clouds and meshes, and records the configuration.
+// file parses the options, picks the default clouds and meshes, and records the configuration;
+// --baseline's file is read and judged by apps/bench_baseline.cpp.
 #include <omp.h>
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "apps/bench.h"
 #include "apps/cli.h"
 #include "bench/sweep/machine.h"
 #include "bench/sweep/sweep.h"
@@ -20,10 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-// The paper's clouds (1k .. 64k points), then two sizes beyond; with a GPU, two more. The four
-// small ones place the crossover, where the octree starts to beat exhaustive tracing (below 1k
-// points with this traversal).
-const char* kDefaultClouds = "10,30,100,300,1k,2k,4k,8k,16k,32k,64k,256k,1M";
+// With a GPU, two clouds beyond kDefaultClouds (apps/bench.h).
 const char* kDefaultGpuExtraClouds = "4M,16M";
 const char* kQuickClouds = "1k,2k,4k";
 
@@ -46,26 +45,6 @@ const char* kQuickMeshes[] = {"cornell_box.obj", "teapot.obj"};
 // printed in full); a nanosecond skips every case that needs a probe frame (the tests' way to
 // see the guard), and above 1e6 s (11.6 days) it is no budget.
 constexpr double kMinCaseSeconds = 1e-9, kMaxCaseSeconds = 1e6;
-
-struct BenchOptions {
-    bool quick = false;
-    std::string out = "bench/results/latest";
-    // accel empty: every layout; the device backend (cuda) is added when one answers.
-    TraceChoice trace{"", std::string(hostBackend().name) + "," + referenceBackend().name};
-    std::string clouds = kDefaultClouds;
-    std::string meshes;  // empty: the defaults found under meshesDir
-    std::string meshesDir;
-    std::string size = "512x512";
-    int repeats = 5;
-    int warmup = 1;
-    double maxSeconds = 300.0;
-    uint64_t seed = kGridCloudDefaultSeed;
-    int meshMaxDepth = BuildParams{}.maxDepth;
-    uint32_t meshMaxPrims = BuildParams{}.maxPrims;
-    uint32_t cloudMaxPrims = 1;
-    LayoutLimitOptions limits;
-    bool progress = true;
-};
 
 // "1000", "64k" (x 1000), "1M" (x 1,000,000).
 uint32_t parseCount(const std::string& text) {
@@ -164,7 +143,8 @@ std::vector<SceneSpec> sceneList(const BenchOptions& o, std::vector<std::string>
 }
 
 void runBench(BenchOptions o, CLI::App* cmd) {
-    const bool backendsGiven = cmd->count("--backend") > 0;
+    // A baseline's backends are its own (or --backend's): no device is added to them.
+    const bool backendsGiven = cmd->count("--backend") > 0 || !o.baseline.empty();
     if (o.quick) {
         // A smoke test of the whole pipeline in well under a minute; options given explicitly
         // still win.
@@ -174,6 +154,9 @@ void runBench(BenchOptions o, CLI::App* cmd) {
         if (!cmd->count("--warmup")) o.warmup = 1;
         if (!cmd->count("--max-seconds")) o.maxSeconds = 20.0;
     }
+    // The file's options where the command line gives none (after --quick's, which they win).
+    BaselineRun baseline;
+    if (!o.baseline.empty()) baseline = prepareBaseline(o, *cmd);
     SweepOptions s;
     parseImageSize(o.size, s.width, s.height);
     setCpuThreadsFromOption(o.trace.threads);
@@ -202,6 +185,8 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     s.scenes = sceneList(o, meshNotes);
     if (s.scenes.empty()) throw CLI::ValidationError("--clouds", "nothing to benchmark");
     checkSweepMemory(o, s);
+    const json runOptions = baselineRunOptions(o, s);
+    if (!o.baseline.empty()) checkBaselineOptions(o, baseline, runOptions);
 
     fs::path dir = o.out;
     std::error_code ec;
@@ -225,6 +210,7 @@ void runBench(BenchOptions o, CLI::App* cmd) {
     s.limits.hash = o.limits.hashParams();
     s.limits.linearBudget = o.limits.linearBudgetBytes();
     s.progress = o.progress;
+    s.pairedReference = o.pairedReference;
 
     json machine = machineJson(deviceName);
     std::vector<std::string> backendNames, layoutNames, sceneNames;
@@ -246,6 +232,8 @@ void runBench(BenchOptions o, CLI::App* cmd) {
                    {"linear_budget_bytes", o.limits.linearBudgetBytes()},
                    {"hash_budget_bytes", o.limits.hashParams().budgetBytes},
                    {"node_budget", o.limits.nodeBudget},
+                   {"paired_reference", o.pairedReference},
+                   {"baseline", o.baseline.empty() ? json(nullptr) : json(o.baseline)},
                    {"notes", meshNotes}};
 
     std::printf(
@@ -254,7 +242,9 @@ void runBench(BenchOptions o, CLI::App* cmd) {
         s.scenes.size(), joined(layoutNames).c_str(), joined(backendNames).c_str(), s.width,
         s.height, o.warmup, o.repeats, machine["cpu_model"].get<std::string>().c_str(),
         omp_get_max_threads(), deviceName.empty() ? "" : (", GPU " + deviceName).c_str());
-    int failed = runSweep(s, machine, config, dir);
+    const SweepResult result = runSweep(s, machine, config, dir);
+    if (!o.baseline.empty()) return finishBaseline(o, baseline, result, machine, runOptions);
+    const int failed = result.failed;
     if (failed > 0)
         throw CommandVerdict(
             kExitFail,
@@ -311,6 +301,25 @@ void registerBench(CLI::App& app) {
         ->check(numberIn(1, 1u << 30));
     addLayoutLimitOptions(*cmd, o->limits, "skipped");
     cmd->add_flag("!--no-progress", o->progress, "No progress lines on stderr");
+    CLI::Option* baseline = cmd->add_option(
+        "--baseline", o->baseline,
+        "Compare each case's time (a ratio to Embree's frame, in pairs: --paired-reference) and "
+        "nodes and prims per pixel with FILE; its options are the defaults (bench/README.md)");
+    cmd->add_flag("--update", o->update,
+                  "With --baseline: rewrite FILE from this run (a new FILE: bench's options, one "
+                  "thread)")
+        ->needs(baseline);
+    cmd->add_option("--max-slowdown", o->maxSlowdown,
+                    "With --baseline: a case fails when its ratio to Embree grew by more than "
+                    "this factor (the default is twice the largest run-to-run change measured, "
+                    "bench/README.md); 1 to 1e9")
+        ->capture_default_str()
+        ->check(numberIn(1.0, 1e9))
+        ->needs(baseline);
+    cmd->add_flag("--paired-reference", o->pairedReference,
+                  "Trace each timed frame of our layouts next to one of Embree's, on the process's "
+                  "CPU clock; ratio_to_embree is the median of the pairs' ratios (with --threads "
+                  "1 it survives a loaded machine)");
     cmd->callback([o, cmd] { runBench(*o, cmd); });
 }
 

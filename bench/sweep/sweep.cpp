@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <memory>
 #include <new>
 #include <optional>
@@ -14,6 +15,7 @@
 #include "bench/sweep/time_guard.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
+#include "core/time_spread.h"
 
 namespace oct {
 
@@ -44,6 +46,59 @@ void protect(Row& r, F&& f) {
     }
 }
 
+// Our frames and the reference's traced alternately (SweepOptions::pairedReference): pair i
+// traces the reference first when i is even and ours first when it is odd (ABBA), so a load that
+// rises or falls across the pairs tilts neither side. One warm-up frame of the reference first:
+// our warm-up frames have just evicted its BVH from the caches.
+struct PairedFrames {
+    std::vector<double> ours, reference;  // each frame's own time (wall clock, CUDA events)
+    std::vector<double> ratios;           // ours / the reference's, a pair each
+};
+
+// The process's CPU time. A frame's wall time on a shared machine includes the time the process
+// waited for a core, which other people's work sets; its CPU time is the work (one thread) the
+// frame needed. Measured on this project's 2-core machine at load 6 to 7, one thread: paired
+// wall-clock ratios moved by up to 2.3x between runs, paired CPU-time ratios by up to 1.14x
+// (bench/README.md, "Performance baselines").
+double processCpuSeconds() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// One frame; returns {its own time, the process CPU time of the call}. The call's CPU time also
+// holds sizing the Film (20 bytes a pixel), the same for both tracers of a pair.
+std::pair<double, double> timedFrame(SceneTracer& t, const FrameParams& frame, Film& film) {
+    const double c0 = processCpuSeconds();
+    const double own = t.render(frame, film)[0];
+    return {own, processCpuSeconds() - c0};
+}
+
+// cpuClock: the ratios from the process's CPU time (a host backend of ours); else from each
+// frame's own time (a device backend: its kernel time by events against Embree's wall time).
+PairedFrames pairedFrames(SceneTracer& ours, SceneTracer& reference, const FrameParams& frame,
+                          Film& film, int warmup, int repeats, bool cpuClock) {
+    PairedFrames p;
+    Film referenceFilm;
+    if (warmup > 0) ours.render(frame, film, warmup - 1, 1);
+    reference.render(frame, referenceFilm, 0, 1);
+    for (int i = 0; i < repeats; ++i) {
+        std::pair<double, double> o, r;
+        if (i % 2 == 0) {
+            r = timedFrame(reference, frame, referenceFilm);
+            o = timedFrame(ours, frame, film);
+        } else {
+            o = timedFrame(ours, frame, film);
+            r = timedFrame(reference, frame, referenceFilm);
+        }
+        p.ours.push_back(o.first);
+        p.reference.push_back(r.first);
+        const double a = cpuClock ? o.second : o.first, b = cpuClock ? r.second : r.first;
+        p.ratios.push_back(b > 0 ? a / b : INFINITY);
+    }
+    return p;
+}
+
 class Sweep {
 public:
     Sweep(const SweepOptions& o, json machine, const json& config)
@@ -56,7 +111,7 @@ public:
         for (const BackendDesc* b : o.backends) (b->usesLayouts ? ours_ : references_).push_back(b);
     }
 
-    int run(const fs::path& dir) {
+    SweepResult run(const fs::path& dir) {
         printHeader();
         for (const SceneSpec& spec : o_.scenes) runScene(spec, dir);
         progress_.clear();
@@ -71,7 +126,7 @@ public:
         std::printf("%d cases: %d ok, %d skipped, %d failed, in %.1f s; wrote %s and %s\n",
                     int(rows_.size()), ok, skipped, failed, progress_.elapsed(),
                     (dir / "bench.csv").string().c_str(), (dir / "bench.json").string().c_str());
-        return failed;
+        return {rows_, failed};
     }
 
 private:
@@ -201,11 +256,22 @@ private:
         const std::string key = guardKey(scene, r);
         if (!planFrames(key, linearInN, scene, *tracer, r)) return;
         Film film;
-        std::vector<double> frames = tracer->render(frame, film, r.warmup, r.repeats);
+        std::vector<double> frames;
+        if (backend.usesLayouts && pairReference_) {
+            PairedFrames p = pairedFrames(*tracer, *pairReference_, frame, film, r.warmup,
+                                          r.repeats, !backend.device);
+            frames = p.ours;
+            r.ratioToEmbree = timeSpread(p.ratios).median;
+        } else {
+            frames = tracer->render(frame, film, r.warmup, r.repeats);
+        }
         fillFilmCounts(film, backend.usesLayouts, r);
         fillTiming(frames, r);
         guard_.record(key, {double(scene.primitiveCount()), double(frame.width) * frame.height,
                             *r.frameMedian, r.scene});
+        // The scene's first reference that ran is the one our frames pair with.
+        if (!backend.usesLayouts && o_.pairedReference && !pairReference_)
+            pairReference_ = std::move(tracer);
     }
 
     void runScene(const SceneSpec& spec, const fs::path& dir) {
@@ -233,6 +299,7 @@ private:
         // (the first such backend's) for every other row's ratio.
         std::optional<double> referenceFrame;
         const BuiltScene bare = bareScene(scene);
+        pairReference_.reset();
         for (const BackendDesc* b : references_) {
             progress_.begin(spec.label() + " " + b->name);
             Row r = baseRow(spec, &scene, loadSeconds);
@@ -267,6 +334,7 @@ private:
             runLayout(spec, scene, loadSeconds, frame, *layout, tree, treeSkip, treeError,
                       referenceFrame, dir);
         }
+        pairReference_.reset();  // it traces `bare`, which ends here
     }
 
     BuildParams buildParams(const Scene& scene) const {
@@ -336,7 +404,7 @@ private:
             r.backend = b->name;
             // A layout without a structure tests every primitive: time grows as N.
             protect(r, [&] { runCase(scene, frame, built, *b, !layout.usesOctree, r); });
-            if (r.status == "ok" && referenceFrame && *referenceFrame > 0)
+            if (r.status == "ok" && !r.ratioToEmbree && referenceFrame && *referenceFrame > 0)
                 r.ratioToEmbree = *r.frameMedian / *referenceFrame;
             add(std::move(r), dir);
             progress_.end();
@@ -348,6 +416,8 @@ private:
     std::vector<const BackendDesc*> references_;  // backends with their own structure
     json machine_, config_;
     CameraOptions cam_;
+    // The scene's reference tracer, kept for pairedFrames (only with pairedReference).
+    std::unique_ptr<SceneTracer> pairReference_;
     TimeGuard guard_;
     Progress progress_;
     std::vector<Row> rows_;
@@ -355,7 +425,8 @@ private:
 
 }  // namespace
 
-int runSweep(const SweepOptions& options, json machine, const json& config, const fs::path& dir) {
+SweepResult runSweep(const SweepOptions& options, json machine, const json& config,
+                     const fs::path& dir) {
     Sweep sweep(options, std::move(machine), config);
     return sweep.run(dir);
 }

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "backends/backend_list.h"
+#include "bench/sweep/results.h"
 
 namespace oct {
 
@@ -37,12 +38,22 @@ struct SweepOptions {
     uint32_t cloudMaxPrims = 1;  // grid cloud octrees split down to the grid depth
     LayoutOptions limits;        // layouts' shape and budgets (its `build` is not used)
     bool progress = true;
+    // Each timed frame of our layouts paired with a frame of the reference (Embree) traced next
+    // to it, and ratio_to_embree the median of the pairs' ratios instead of median / Embree's
+    // median: adjacent frames share the machine's load, so the ratio survives other work on a
+    // shared machine (bench --baseline; bench/README.md, "Performance baselines", has the
+    // spread with and without).
+    bool pairedReference = false;
+};
+
+struct SweepResult {
+    std::vector<Row> rows;  // as written to bench.json
+    int failed = 0;         // cases with status "error" (skipped ones are not failures)
 };
 
 // Runs the sweep, printing a line per case on stdout and rewriting DIR/bench.json and
-// DIR/bench.csv after every case (`machine` and `config` go into the JSON as given). Returns
-// the number of cases that failed (status "error"; skipped ones are not failures).
-int runSweep(const SweepOptions& options, nlohmann::ordered_json machine,
-             const nlohmann::ordered_json& config, const std::filesystem::path& dir);
+// DIR/bench.csv after every case (`machine` and `config` go into the JSON as given).
+SweepResult runSweep(const SweepOptions& options, nlohmann::ordered_json machine,
+                     const nlohmann::ordered_json& config, const std::filesystem::path& dir);
 
 }  // namespace oct

@@ -183,6 +183,31 @@ TEST(BenchCommand, LimitsAreSkippedRowsWithAReason) {
     fs::remove_all(dir);
 }
 
+// --paired-reference (what --baseline measures with): the configuration says so, and every row
+// of ours still carries its ratio, now from the pairs. What the ratios are is timing, not
+// asserted.
+TEST(BenchCommand, PairedReferenceIsRecordedWithEveryRatio) {
+    fs::path dir = freshDir("paired");
+    for (const bool paired : {false, true}) {
+        std::string log;
+        const int rc = runOctrace(
+            "bench --clouds 1k --meshes none --backends cpu,embree --accels linear,compact "
+            "--size 32x32 --repeats 2 --threads 1 --no-progress --out '" +
+                (dir / "out").string() + "'" + (paired ? " --paired-reference" : ""),
+            dir / "log.txt", log);
+        ASSERT_EQ(rc, 0) << log;
+        json doc = octtest::readJson<json>(dir / "out" / "bench.json");
+        EXPECT_EQ(doc["config"]["paired_reference"], paired);
+        for (const char* layout : {"linear", "compact"}) {
+            const json* r = findRow(doc["results"], "grid:1000:1", layout, "cpu");
+            ASSERT_NE(r, nullptr) << layout << "\n" << log;
+            EXPECT_TRUE((*r)["ratio_to_embree"].is_number()) << r->dump();
+            EXPECT_EQ((*r)["repeats"], 2) << "the pairs are the timed frames";
+        }
+    }
+    fs::remove_all(dir);
+}
+
 TEST(BenchCommand, BadOptionsFailWithOneLine) {
     fs::path dir = freshDir("bad");
     std::string log;
