@@ -1,6 +1,7 @@
-// Meshes far from the origin and at the float grid's own spacing, made by the tests and written
-// as OBJ files (every float read back exactly): a UTM-like terrain at x = 5e5, y = 4e6; the
-// teapot x 100 moved there; 8 x 8 heightfields whose vertices are 1 to 2 ulps apart (issue 21).
+// Meshes far from the origin, at the float grid's own spacing or at extreme sizes, made by the
+// tests and written as OBJ files (every float read back exactly): a UTM-like terrain at x = 5e5,
+// y = 4e6; the teapot x 100 moved there; 8 x 8 heightfields whose vertices are 1 to 2 ulps apart
+// (issue 21); the teapot scaled by any factor about the origin.
 #pragma once
 
 #include <array>
@@ -92,6 +93,17 @@ inline Mesh farTeapot() {
     Mesh m;
     for (const oct::Vec3& p : topo.vertices)
         m.v.push_back({float(5e5 + 100.0 * p.x), float(4e6 + 100.0 * p.y), float(100.0 * p.z)});
+    for (const auto& c : topo.corners) m.f.push_back({int(c[0]), int(c[1]), int(c[2])});
+    return m;
+}
+
+// The teapot times `factor` about the origin (each vertex rounded to float).
+inline Mesh scaledTeapot(double factor) {
+    const oct::Scene t = oct::loadScene(kTeapot);
+    const oct::MeshTopology topo = oct::meshTopology(t);
+    Mesh m;
+    for (const oct::Vec3& p : topo.vertices)
+        m.v.push_back({float(factor * p.x), float(factor * p.y), float(factor * p.z)});
     for (const auto& c : topo.corners) m.f.push_back({int(c[0]), int(c[1]), int(c[2])});
     return m;
 }

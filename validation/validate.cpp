@@ -56,6 +56,16 @@ bool ValidationReport::passes() const {
     return true;
 }
 
+CameraOptions insideViewCamera(const Scene& scene, const CameraOptions& camera) {
+    CameraOptions inside = camera;
+    const Vec3 centre = scene.bounds().center();
+    const float lift = float(0.01 * sceneExtent(scene));
+    inside.eye = centre;
+    inside.target = centre + Vec3{0.0f, 0.0f, 1.0f};
+    inside.light = centre + Vec3{0.0f, lift, 0.0f};
+    return inside;
+}
+
 uint64_t validatePeakBytes(const ValidateOptions& o, size_t tracers) {
     const uint64_t pixels =
         uint64_t(std::max(o.camera.width, 0)) * uint64_t(std::max(o.camera.height, 0));
@@ -76,15 +86,7 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     rep.seed = o.seed;
     CheckInputs in(scene, canonical, o, classifier);
     in.frame = makeFrame(scene.bounds(), o.camera);
-    // The inside view (validate.h): eye and light at the box's centre, the light 1% of the
-    // extent above the eye so shadow rays do not retrace the primary rays exactly.
-    CameraOptions insideCamera = o.camera;
-    const Vec3 centre = scene.bounds().center();
-    const float lift = float(0.01 * sceneExtent(scene));
-    insideCamera.eye = centre;
-    insideCamera.target = centre + Vec3{0.0f, 0.0f, 1.0f};
-    insideCamera.light = centre + Vec3{0.0f, lift, 0.0f};
-    in.frameInside = makeFrame(scene.bounds(), insideCamera);
+    in.frameInside = makeFrame(scene.bounds(), insideViewCamera(scene, o.camera));
     rep.width = in.frame.width;
     rep.height = in.frame.height;
     in.rays = makeValidationRays(scene, o.rays, o.seed);

@@ -22,6 +22,7 @@
 #include "validation/exact/replication.h"
 #include "validation/policy/hit_validation.h"
 #include "validation/policy/judged_scene.h"
+#include "validation/policy/ray_definitions.h"
 
 namespace oct {
 
@@ -84,6 +85,8 @@ struct ValidationReport : JudgedScene {
     std::vector<RunReport> runs;
     std::optional<ReplicationReport> replication;
     std::optional<BoxContractReport> boxContract;  // null without the canonical octree
+    // The kernel's own rays against their definitions in double (policy/ray_definitions.h).
+    std::optional<RayDefinitionReport> camera, shadowRays, rayScaling;
     double seconds = 0.0;
 
     uint64_t wrong() const;
@@ -91,6 +94,11 @@ struct ValidationReport : JudgedScene {
     bool passes() const;    // every run, every scene check
     bool complete() const;  // nothing left unverified by a recheck cap
 };
+
+// The inside view's camera (docs/VALIDATION.md, "The inside view"): `camera`'s size and field
+// of view, the eye at the centre of the scene's box looking along +z, the light 1% of the
+// extent above the eye, so that shadow rays do not retrace the primary rays exactly.
+CameraOptions insideViewCamera(const Scene& scene, const CameraOptions& camera);
 
 // About the most memory validateScene holds at once for `tracers` tracers, beyond the scene and
 // its layouts: the reference's Films and one run's (each view), every run's per-pixel classes

@@ -53,7 +53,9 @@ public:
     virtual CheckResult result(const ValidationReport& rep) const = 0;
 };
 
-const std::vector<const RunCheck*>& runChecks();      // film, structure, rays
-const std::vector<const SceneCheck*>& sceneChecks();  // replication, box contract
+const std::vector<const RunCheck*>& runChecks();  // film, structure, rays
+// replication, box contract, and the kernel's rays against their definitions: camera, shadow
+// ray, ray scaling
+const std::vector<const SceneCheck*>& sceneChecks();
 
 }  // namespace oct

@@ -9,6 +9,9 @@ const RunCheck& structureCheck();      // structure_check.cpp
 const RunCheck& rayCheck();            // ray_check.cpp
 const SceneCheck& replicationCheck();  // replication_check.cpp
 const SceneCheck& boxContractCheck();  // box_contract_check.cpp
+const SceneCheck& cameraCheck();       // camera_check.cpp
+const SceneCheck& shadowRayCheck();    // shadow_ray_check.cpp
+const SceneCheck& rayScalingCheck();   // ray_scaling_check.cpp
 
 const std::vector<const RunCheck*>& runChecks() {
     static const std::vector<const RunCheck*> list = {&filmCheck(), &structureCheck(), &rayCheck()};
@@ -16,7 +19,9 @@ const std::vector<const RunCheck*>& runChecks() {
 }
 
 const std::vector<const SceneCheck*>& sceneChecks() {
-    static const std::vector<const SceneCheck*> list = {&replicationCheck(), &boxContractCheck()};
+    static const std::vector<const SceneCheck*> list = {&replicationCheck(), &boxContractCheck(),
+                                                        &cameraCheck(), &shadowRayCheck(),
+                                                        &rayScalingCheck()};
     return list;
 }
 
