@@ -30,6 +30,18 @@ RunResult run(const std::vector<std::string>& args) {
 
 using octtest::readJson;
 
+// A golden folder of one committed image: its manifest row and PNG copied into `to`.
+void copyOneGolden(const fs::path& to, const std::string& file) {
+    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
+    json kept = json::array();
+    for (const json& e : m["images"])
+        if (e["file"] == file) kept.push_back(e);
+    m["images"] = kept;
+    fs::create_directories(to);
+    std::ofstream(to / "golden.json") << m.dump(2);
+    fs::copy_file(fs::path(OCT_SOURCE_DIR "/tests/data/golden") / file, to / file);
+}
+
 class RegressionCli : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -108,15 +120,7 @@ TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
 // image fails on every backend present.
 TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPassed) {
     octtest::TempDir dir("regression_cli_backends");
-    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
-    json kept = json::array();
-    for (const json& e : m["images"])
-        if (e["file"] == "cube_binary.ply.png") kept.push_back(e);
-    m["images"] = kept;
-    fs::create_directories(dir.path() / "golden");
-    std::ofstream(dir.path() / "golden" / "golden.json") << m.dump(2);
-    fs::copy_file(OCT_SOURCE_DIR "/tests/data/golden/cube_binary.ply.png",
-                  dir.path() / "golden" / "cube_binary.ply.png");
+    copyOneGolden(dir.path() / "golden", "cube_binary.ply.png");
     std::string list;
     std::vector<std::string> present, absent;
     for (const oct::BackendDesc& b : oct::backends()) {
@@ -160,15 +164,7 @@ TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPas
 // comparison, and index.html naming them; a pass writes nothing (unless --artifacts-always).
 TEST_F(RegressionCli, AFailingImageLeavesItsFramesAndAPageAPassNothing) {
     octtest::TempDir dir("regression_cli_artifacts");
-    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
-    json kept = json::array();
-    for (const json& e : m["images"])
-        if (e["file"] == "teapot.obj.png") kept.push_back(e);
-    m["images"] = kept;
-    fs::create_directories(dir.path() / "golden");
-    std::ofstream(dir.path() / "golden" / "golden.json") << m.dump(2);
-    fs::copy_file(OCT_SOURCE_DIR "/tests/data/golden/teapot.obj.png",
-                  dir.path() / "golden" / "teapot.obj.png");
+    copyOneGolden(dir.path() / "golden", "teapot.obj.png");
     const std::string golden = (dir.path() / "golden").string();
     RunResult r = run({"validate", "--golden", golden, "--artifacts", dir.str("pass")});
     ASSERT_EQ(r.status, 0) << r.out << r.err;

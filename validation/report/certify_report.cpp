@@ -246,11 +246,7 @@ json certifyReportBody(const CertifyReport& r) {
 }  // namespace
 
 json toJson(const CertifyReport& r) {
-    json j = certifyReportBody(r);
-    // The schema of the report, so that a reader can refuse one it does not know.
-    j["format"] = "octrace-certify-report";
-    j["version"] = 1;
-    return j;
+    return report_detail::withSchema(certifyReportBody(r), "octrace-certify-report");
 }
 
 std::string humanSummary(const CertifyReport& r) {

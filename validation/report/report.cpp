@@ -127,11 +127,7 @@ json validationReportBody(const ValidationReport& r) {
 }  // namespace
 
 json toJson(const ValidationReport& r) {
-    json j = validationReportBody(r);
-    // The schema of the report, so that a reader can refuse one it does not know.
-    j["format"] = "octrace-validate-report";
-    j["version"] = 1;
-    return j;
+    return report_detail::withSchema(validationReportBody(r), "octrace-validate-report");
 }
 
 std::string humanSummary(const ReplicationReport& r) {

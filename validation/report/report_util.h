@@ -68,6 +68,14 @@ inline json shadowJson(const ShadowFinding& f) {
     return j;
 }
 
+// A report with its schema named (format, version 1), so that a reader can refuse a report it
+// does not know (docs/VALIDATION.md, "Report fields").
+inline json withSchema(json report, const char* format) {
+    report["format"] = format;
+    report["version"] = 1;
+    return report;
+}
+
 inline std::string fmt(const char* f, ...) {
     char buf[1024];
     va_list ap;
