@@ -117,7 +117,6 @@ void runCertify(const CertifyCliOptions& o) {
     if (scene.report.totalDropped() > 0)
         std::fprintf(stderr, "loading dropped %llu faces or points (see octrace info)\n",
                      (unsigned long long)scene.report.totalDropped());
-    if (manifest) checkSameScene(*manifest, scene, o.rays);  // before building anything
     const double loadSeconds = lap();
 
     CertifyRunOptions ro;

@@ -89,8 +89,7 @@ struct Measured {
     CostTotals totals;
 };
 
-// Every layout's totals for one scene on each backend, backend by backend, layouts in registry
-// order.
+// Every layout's totals for one scene on each backend, in renderRegressionFrames' order.
 std::vector<Measured> measure(const std::string& scene, const std::string& root,
                               const RegressionRender& render, const std::string& file,
                               const std::vector<const BackendDesc*>& backends) {

@@ -85,15 +85,17 @@ std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
     std::vector<const BackendDesc*> ours = backends;
     if (ours.empty()) ours.push_back(&hostBackend());
     std::vector<TracedFrame> out;
-    for (const BackendDesc* b : ours)
-        for (const LayoutDesc& l : layouts()) {
+    for (const LayoutDesc& l : layouts()) {
+        // Converted once, rendered on every backend.
+        const BuiltScene built = convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts);
+        for (const BackendDesc* b : ours) {
             TracedFrame f;
             f.tracer = l.name;
             f.backend = b->name;
-            renderWith(*b, convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts), frame,
-                       f.film);
+            renderWith(*b, built, frame, f.film);
             out.push_back(std::move(f));
         }
+    }
     if (embree) {
         TracedFrame f;
         f.tracer = referenceBackend().name;

@@ -30,8 +30,9 @@ RegressionRender regressionRenderFromJson(const nlohmann::json& j, const std::st
 nlohmann::json toJson(const RegressionRender& r);
 
 // One frame of a scene per tracer: every layout of the registry on each backend of `backends`
-// (backends of our kernel, available here; empty: the backend list's host backend), backend by
-// backend, layouts in registry order (tracer = the layout's name, backend = the backend's),
+// (backends of our kernel, available here; empty: the backend list's host backend), layouts in
+// registry order, each converted once and rendered on the backends in list order (tracer = the
+// layout's name, backend = the backend's),
 // then, with `embree`, the reference backend's hits shaded by the same kernel (tracer and
 // backend its name). `scene` is resolved against `root` unless it is a generator spec; a
 // missing file is an error naming the listing `file` and the root.
