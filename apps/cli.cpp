@@ -200,11 +200,13 @@ std::vector<const LayoutDesc*> parseLayoutList(const std::string& text) {
 }
 
 std::vector<const BackendDesc*> parseBackendList(const std::string& text,
-                                                 std::vector<std::string>& notes) {
+                                                 std::vector<std::string>& notes,
+                                                 bool keepUnavailable) {
     std::vector<const BackendDesc*> out;
     for (const std::string& name : splitList(text)) {
         std::string note;
-        const BackendDesc* b = &resolveBackend(name, note);
+        const BackendDesc* known = name == "auto" ? nullptr : findBackend(name);
+        const BackendDesc* b = keepUnavailable && known ? known : &resolveBackend(name, note);
         if (!note.empty()) notes.push_back(note);
         if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
     }

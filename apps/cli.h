@@ -115,8 +115,11 @@ void setCpuThreadsFromOption(int threads);
 std::vector<const LayoutDesc*> parseLayoutList(const std::string& text);
 // Backends named in a --backend list (auto resolved), without repeats; `notes` receives what
 // auto chose. Throws for an unknown name or one that cannot run here.
+// With `keepUnavailable`, a backend of the list that cannot run here is kept (the regression
+// files report it as skipped) instead of refused.
 std::vector<const BackendDesc*> parseBackendList(const std::string& text,
-                                                 std::vector<std::string>& notes);
+                                                 std::vector<std::string>& notes,
+                                                 bool keepUnavailable = false);
 // Exactly one layout or backend, for the commands that draw one (render, trace).
 const LayoutDesc& parseOneLayout(const std::string& text, const char* command);
 const BackendDesc& parseOneBackend(const std::string& text, const char* command, std::string& note);

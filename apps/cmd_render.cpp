@@ -41,15 +41,9 @@ void writeOutputs(const RenderOptions& o, const Film& f, const TeachImages& t) {
         if (!path->empty()) out.stage(*path, encodePng(*path, img->width, img->height, img->rgb));
     if (!o.depthOut.empty()) stageNpy(out, o.depthOut, "<f4", shape, f.t.data(), 4);
     if (!o.primOut.empty()) stageNpy(out, o.primOut, "<i4", shape, f.prim.data(), 4);
-    if (!o.costOut.empty()) {
-        // (H, W, 2) int32: nodes visited, primitives tested (primary + shadow ray).
-        std::vector<int32_t> cost(f.pixelCount() * 2);
-        for (size_t i = 0; i < f.pixelCount(); ++i) {
-            cost[2 * i] = int32_t(f.nodes[i]);
-            cost[2 * i + 1] = int32_t(f.primsTested[i]);
-        }
-        stageNpy(out, o.costOut, "<i4", {uint64_t(f.height), uint64_t(f.width), 2}, cost.data(), 4);
-    }
+    if (!o.costOut.empty())
+        stageNpy(out, o.costOut, "<i4", {uint64_t(f.height), uint64_t(f.width), 2},
+                 costArray(f).data(), 4);
     out.commit();
 }
 

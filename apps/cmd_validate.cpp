@@ -63,22 +63,13 @@ std::vector<const BackendDesc*> backendsUnderTest(const std::string& text) {
     return out;
 }
 
-// The backends the regression files (--golden, --cost-baseline) render with: --backend's list
-// (auto resolved), where a backend that cannot run here is kept, to be reported as skipped
-// (runRegressionFiles), instead of refused as for a scene's checks.
+// The backends the regression files (--golden, --cost-baseline) render with: --backend's list,
+// where a backend that cannot run here is kept, to be reported as skipped (runRegressionFiles),
+// instead of refused as for a scene's checks.
 std::vector<const BackendDesc*> regressionBackends(const std::string& text) {
-    std::vector<const BackendDesc*> out;
-    for (const std::string& name : splitList(text)) {
-        const BackendDesc* b = findBackend(name);
-        if (name == "auto" || !b) {  // auto, or an unknown name: refused with the usual line
-            std::string note;
-            b = &resolveBackend(name, note);
-        }
-        if (std::find(out.begin(), out.end(), b) == out.end()) out.push_back(b);
-    }
-    if (out.empty())
-        throw CLI::ValidationError(
-            "--backend", "'" + text + "' names no backend (" + backendNames() + ", auto)");
+    std::vector<std::string> notes;
+    std::vector<const BackendDesc*> out = parseBackendList(text, notes, true);
+    for (const std::string& n : notes) std::fprintf(stderr, "%s\n", n.c_str());
     return out;
 }
 

@@ -325,19 +325,12 @@ py::dict render(SceneObject& s, const std::pair<int, int>& size, const std::stri
         seconds = times.empty() ? 0.0 : times[0];
     }
     const ssize_t h = film->height, w = film->width;
-    // render --cost's (H, W, 2) int32: nodes visited, primitives tested (primary + shadow ray).
-    auto cost = py::array_t<int32_t>(std::vector<ssize_t>{h, w, 2});
-    int32_t* c = cost.mutable_data();
-    for (size_t i = 0; i < film->pixelCount(); ++i) {
-        c[2 * i] = int32_t(film->nodes[i]);
-        c[2 * i + 1] = int32_t(film->primsTested[i]);
-    }
     py::dict out("image"_a = py::array_t<uint8_t>({h, w, ssize_t(3)}, film->rgb.data(), owner),
                  "t"_a = py::array_t<float>({h, w}, film->t.data(), owner),
                  "prim"_a = py::array_t<int32_t>({h, w}, film->prim.data(), owner),
                  "shadow"_a = py::array_t<uint8_t>({h, w}, film->shadow.data(), owner),
                  "seconds"_a = seconds);
-    if (backend.usesLayouts) out["cost"] = cost;
+    if (backend.usesLayouts) out["cost"] = ownedArray(costArray(*film), {h, w, 2});  // --cost's
     return out;
 }
 

@@ -17,4 +17,13 @@ FilmView Film::view() {
             primsTested.data(), shadow.data(), width,       height};
 }
 
+std::vector<int32_t> costArray(const Film& film) {
+    std::vector<int32_t> cost(film.pixelCount() * 2);
+    for (size_t i = 0; i < film.pixelCount(); ++i) {
+        cost[2 * i] = int32_t(film.nodes[i]);
+        cost[2 * i + 1] = int32_t(film.primsTested[i]);
+    }
+    return cost;
+}
+
 }  // namespace oct

@@ -45,4 +45,8 @@ struct Film {
     size_t pixelCount() const { return size_t(width) * size_t(height); }
 };
 
+// The per-pixel cost as `octrace render --cost` writes it and the Python module's render()
+// returns it: (H, W, 2) int32, nodes visited then primitives tested (primary + shadow ray).
+std::vector<int32_t> costArray(const Film& film);
+
 }  // namespace oct
