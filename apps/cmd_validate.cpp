@@ -11,12 +11,13 @@
 #include "apps/cli.h"
 #include "apps/policy_options.h"
 #include "bench/table1/table1.h"
+#include "core/io/name_list.h"
 #include "core/io/output_file.h"
 #include "core/scene/load_scene.h"
 #include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
 #include "validation/regression/artifacts.h"
-#include "validation/regression/regression_files.h"
+#include "validation/regression/regression_run.h"
 #include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 #include "validation/validate.h"
@@ -43,8 +44,14 @@ struct ValidateCliOptions {
     uint64_t boxRays = ValidateOptions{}.boxContractRays;
     bool table1 = false;
     std::string meshes = "meshes";
-    std::string golden, costBaseline;  // regression files (docs/VALIDATION.md)
+    std::string regression;      // the regression set's manifest (docs/VALIDATION.md)
+    std::string regressionAdd;   // a scene to add to it
+    std::string regressionName;  // its entry's name
+    std::string addLayouts, addViews;
     bool update = false;
+    // What was given explicitly (--regression-add records only those as the scene's own).
+    bool backendGiven = false, sizeGiven = false, maxDepthGiven = false, maxPrimsGiven = false,
+         radiusGiven = false;
     std::string artifacts;  // what a failing regression check leaves to look at
     bool artifactsAlways = false;
 };
@@ -63,9 +70,9 @@ std::vector<const BackendDesc*> backendsUnderTest(const std::string& text) {
     return out;
 }
 
-// The backends the regression files (--golden, --cost-baseline) render with: --backend's list,
-// where a backend that cannot run here is kept, to be reported as skipped (runRegressionFiles),
-// instead of refused as for a scene's checks.
+// The backends the regression set (--regression) renders with: --backend's list, where a backend
+// that cannot run here is kept, to be reported as skipped (runRegression), instead of refused as
+// for a scene's checks.
 std::vector<const BackendDesc*> regressionBackends(const std::string& text) {
     std::vector<std::string> notes;
     std::vector<const BackendDesc*> out = parseBackendList(text, notes, true);
@@ -103,21 +110,81 @@ void runTable1(const ValidateCliOptions& o) {
     if (!o.json.empty()) writeTextOutput(o.json, toJson(rows).dump(2) + "\n");
 }
 
+// What --regression-add records for the new scene: the options given on its command line.
+RegressionAddition regressionAddition(const ValidateCliOptions& o) {
+    RegressionAddition a;
+    a.scene = o.regressionAdd;
+    if (!o.regressionName.empty()) a.name = o.regressionName;
+    if (o.sizeGiven) {
+        int w = 0, h = 0;
+        parseImageSize(o.size, w, h);
+        a.settings.width = w;
+        a.settings.height = h;
+    }
+    if (o.maxDepthGiven) a.settings.maxDepth = o.scene.maxDepth;
+    if (o.maxPrimsGiven) a.settings.maxPrims = o.scene.maxPrims;
+    if (o.radiusGiven) a.settings.radius = o.scene.radius;
+    if (!o.addLayouts.empty()) {
+        std::vector<std::string> names;
+        for (const LayoutDesc* l : parseLayoutList(o.addLayouts)) names.push_back(l->name);
+        a.settings.layouts = names;
+    }
+    if (!o.addViews.empty()) {
+        std::vector<std::string> views = splitList(o.addViews);
+        for (const std::string& v : views)
+            if (!isRegressionView(v)) {
+                std::string names;
+                for (const std::string& n : regressionViewNames()) names += " " + n;
+                throw std::runtime_error("--views: '" + v + "' is not one of" + names);
+            }
+        a.settings.views = views;
+    }
+    return a;
+}
+
+// --regression's mode from the options: check, --update or --regression-add SCENE.
+RegressionMode regressionMode(const ValidateCliOptions& o) {
+    if (!o.regressionAdd.empty()) {
+        if (o.update)
+            throw std::runtime_error(
+                "--regression-add adds one scene; --update re-renders every scene: give one");
+        if (!o.scene.path.empty())
+            throw std::runtime_error("--regression-add " + o.regressionAdd +
+                                     " takes the scene itself; drop the SCENE argument '" +
+                                     o.scene.path + "'");
+        return RegressionMode::Add;
+    }
+    if (!o.addLayouts.empty() || !o.addViews.empty() || !o.regressionName.empty())
+        throw std::runtime_error(
+            "--layouts, --views and --regression-name set what --regression-add records");
+    return o.update ? RegressionMode::Update : RegressionMode::Check;
+}
+
 void runValidate(const ValidateCliOptions& o) {
     if (o.table1) return runTable1(o);
-    // Option errors first (cheap), then the regression files (seconds), then the scene.
+    // Option errors first (cheap), then the regression set (seconds), then the scene.
     checkRayCount(o.rays);
     // The diff images get per-run names when several runs are compared; the plain name is
     // checked here (the per-run names differ from it and from each other).
     checkOutputPaths({o.json == "-" ? "" : o.json, o.diffImage}, {o.scene.path});
     std::vector<const LayoutDesc*> layoutList = parseLayoutList(o.trace.accel);
-    // Without a scene only the regression files run: a backend absent here is skipped there.
+    // Without a scene only the regression set runs: a backend absent here is skipped there.
     const std::vector<const BackendDesc*> backendList = o.scene.path.empty()
                                                             ? regressionBackends(o.trace.backend)
                                                             : backendsUnderTest(o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
-    const RegressionReport reg =
-        runRegressionFiles(o.golden, o.costBaseline, o.update, ".", backendList);
+    if (o.regression.empty() && (o.update || !o.regressionAdd.empty()))
+        throw std::runtime_error(std::string(o.update ? "--update" : "--regression-add") +
+                                 " needs --regression FILE, the manifest to write");
+    RegressionReport reg;
+    if (!o.regression.empty()) {
+        const RegressionMode mode = regressionMode(o);
+        const RegressionAddition add =
+            mode == RegressionMode::Add ? regressionAddition(o) : RegressionAddition{};
+        // --backend not given: the manifest's backends.
+        const std::vector<const BackendDesc*> none;
+        reg = runRegression(o.regression, mode, ".", o.backendGiven ? backendList : none, &add);
+    }
     std::fputs(humanSummary(reg).c_str(), summaryStream(o.json));
     if (!o.artifacts.empty()) {
         const ArtifactsWritten w = writeRegressionArtifacts(o.artifacts, reg, o.artifactsAlways);
@@ -128,10 +195,9 @@ void runValidate(const ValidateCliOptions& o) {
                          (unsigned long long)w.failingCostRows, w.files.size());
     }
     if (o.scene.path.empty()) {
-        if (o.golden.empty() && o.costBaseline.empty())
+        if (o.regression.empty())
             throw std::runtime_error(
-                "validate needs a SCENE (or --table1, --golden DIR, --cost-baseline FILE); see "
-                "--help");
+                "validate needs a SCENE (or --table1, or --regression FILE); see --help");
         nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 1}};
         addToJson(j, reg);
         if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
@@ -256,24 +322,41 @@ void registerValidate(CLI::App& app) {
                   "Print the paper's Table 1 (vertices, faces, octree faces) for the meshes in "
                   "--meshes and its cache/ instead of validating a scene");
     cmd->add_option("--meshes", o->meshes, "Mesh folder for --table1")->capture_default_str();
-    cmd->add_option("--golden", o->golden,
-                    "Also compare renders of every layout and Embree with the golden images in "
-                    "DIR (DIR/golden.json; tests/data/golden); a SCENE is then optional");
-    cmd->add_option("--cost-baseline", o->costBaseline,
-                    "Also check every layout's mean nodes visited and primitives tested per "
-                    "pixel against FILE (tests/data/cost_baselines.json): fail above +5%");
+    cmd->add_option("--regression", o->regression,
+                    "Also run the regression set of FILE (tests/data/regression/regression.json): "
+                    "each scene's frames by its layouts and views on each backend, against their "
+                    "golden images and cost baselines; a SCENE is then optional");
+    cmd->add_option("--regression-add", o->regressionAdd,
+                    "Add SCENE to the --regression FILE and write its images and baselines "
+                    "(with --layouts, --views, and --size, --max-depth, --max-prims, --radius "
+                    "when given; the file's defaults otherwise)");
+    cmd->add_option("--regression-name", o->regressionName,
+                    "With --regression-add: the entry's name, for a scene listed in several "
+                    "configurations (its images are named after it; default the file name)");
+    cmd->add_option("--layouts", o->addLayouts,
+                    "With --regression-add: the layouts the scene is held to (default all)");
+    cmd->add_option("--views", o->addViews,
+                    "With --regression-add: the views, comma-separated: default, +x, -x, +y, "
+                    "-y, -z, inside (default: the file's)");
     CLI::Option* artifacts = cmd->add_option(
         "--artifacts", o->artifacts,
-        "When a --golden or --cost-baseline check fails (or a backend is skipped), "
+        "When the --regression check fails (or a backend is skipped), "
         "write DIR/index.html with each failing frame, its golden and a diff image, "
         "and each failing cost row (for a CI job to keep)");
     cmd->add_flag("--artifacts-always", o->artifactsAlways,
                   "Write --artifacts DIR on a pass as well")
         ->needs(artifacts);
     cmd->add_flag("--update", o->update,
-                  "Rewrite the files of --golden and --cost-baseline from this build and print "
-                  "what changed, instead of checking them");
-    cmd->callback([o] { runValidate(*o); });
+                  "Rewrite the --regression FILE's images and baselines from this build and "
+                  "print what changed, instead of checking them");
+    cmd->callback([o, cmd] {
+        o->backendGiven = cmd->count("--backend") > 0;
+        o->sizeGiven = cmd->count("--size") > 0;
+        o->maxDepthGiven = cmd->count("--max-depth") > 0;
+        o->maxPrimsGiven = cmd->count("--max-prims") > 0;
+        o->radiusGiven = cmd->count("--radius") > 0;
+        runValidate(*o);
+    });
 }
 
 }  // namespace oct

@@ -67,11 +67,12 @@ FrameParams makeFrame(const Aabb& b, const CameraOptions& o) {
     float distance = 1.05f * radius / std::sin(halfMin);
 
     Vec3 target = o.target.value_or(centre);
-    Vec3 eye = o.eye.value_or(target + Vec3{0.0f, 0.0f, distance});
-    if (!o.eye && !(double(std::fabs(eye.z)) <= kMaxRayOrigin)) {
+    Vec3 eye = o.eye.value_or(target + o.from * distance);
+    const float farthest = std::max({std::fabs(eye.x), std::fabs(eye.y), std::fabs(eye.z)});
+    if (!o.eye && !(double(farthest) <= kMaxRayOrigin)) {
         std::ostringstream why;
-        why << "the default eye for this scene and --fov " << o.fovDegrees
-            << " would sit at z = " << eye.z << ", beyond +-" << kMaxRayOrigin
+        why << "the default eye for this scene and --fov " << o.fovDegrees << " would sit at "
+            << str(eye) << ", beyond +-" << kMaxRayOrigin
             << " (docs/ROBUSTNESS.md, numeric range); give --eye or a wider --fov";
         throw FrameError(why.str());
     }

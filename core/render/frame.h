@@ -18,6 +18,10 @@ public:
 
 struct CameraOptions {
     std::optional<Vec3> eye, target, up, light;
+    // The side the default eye frames the scene from (a unit vector from the target towards the
+    // eye), when `eye` is not given: +z by default (looking along -z). The regression set's
+    // axis views (validation/regression/regression_render.h) set it.
+    Vec3 from{0.0f, 0.0f, 1.0f};
     float fovDegrees = 45.0f;
     int width = 512;
     int height = 512;

@@ -129,29 +129,29 @@ TEST_F(InputsCli, ManifestsThatAreNotRegularFilesOrTooLargeAreRefused) {
 }
 
 TEST_F(InputsCli, RegressionFilesThatAreNotRegularFilesAreRefused) {
-    // --cost-baseline FILE and --golden DIR's golden.json.
+    // --regression FILE.
     for (Special s : {Special::Fifo, Special::DevZero, Special::Directory}) {
         SCOPED_TRACE(kindText(s));
-        makeSpecial(path("cost.json"), s);
-        expectRefused(run({"validate", "--cost-baseline", path("cost.json")}), path("cost.json"),
-                      kindText(s));
-        fs::create_directories(work_ / "golden");
-        makeSpecial(work_ / "golden" / "golden.json", s);
-        expectRefused(run({"validate", "--golden", path("golden")}), "golden.json", kindText(s));
+        makeSpecial(path("regression.json"), s);
+        expectRefused(run({"validate", "--regression", path("regression.json")}),
+                      path("regression.json"), kindText(s));
+        fs::remove_all(path("regression.json"));
     }
-    // A golden PNG: the cube's manifest entry, its image a FIFO (read after the render).
-    json g = json::parse(octtest::readFile(OCT_SOURCE_DIR "/tests/data/golden/golden.json"));
+    // A golden PNG: the cube's entry, its image a FIFO (read after the render).
+    json g =
+        json::parse(octtest::readFile(OCT_SOURCE_DIR "/tests/data/regression/regression.json"));
     json one = json::array();
-    for (const json& image : g["images"])
-        if (image["scene"] == "meshes/cube_binary.ply") one.push_back(image);
+    for (const json& e : g["scenes"])
+        if (e["scene"] == "meshes/cube_binary.ply") one.push_back(e);
     ASSERT_EQ(one.size(), 1u);
-    g["images"] = one;
-    fs::remove_all(work_ / "golden");
-    fs::create_directories(work_ / "golden");
-    ASSERT_TRUE(octtest::writeFile(work_ / "golden" / "golden.json", g.dump(2)));
-    makeSpecial(work_ / "golden" / one[0]["file"].get<std::string>(), Special::Fifo);
-    expectRefused(run({"validate", "--golden", path("golden")}, 60, OCT_SOURCE_DIR),
-                  one[0]["file"].get<std::string>(), "FIFO");
+    g["scenes"] = one;
+    fs::create_directories(work_ / "regression");
+    ASSERT_TRUE(octtest::writeFile(work_ / "regression" / "regression.json", g.dump(2)));
+    const std::string image = one[0]["frames"][0]["image"];
+    makeSpecial(work_ / "regression" / image, Special::Fifo);
+    expectRefused(
+        run({"validate", "--regression", path("regression/regression.json")}, 60, OCT_SOURCE_DIR),
+        image, "FIFO");
 }
 
 // The manifest's counts are checked against the rows (and each other) before a set is rebuilt:

@@ -1,19 +1,20 @@
-// Cost baselines (validation/regression/cost_baseline.h): the committed baselines are reproduced
-// exactly by this build for every scene and every layout of the registry; an inflated cost fails, a
-// small change passes, a drop is reported and passes, a layout without a baseline fails.
+// Cost baselines of the regression set (validation/regression/cost_baseline.h,
+// regression_run.h): the committed baselines are reproduced exactly by this build for every
+// frame and every layout of its entry; an inflated cost fails, a small change passes, a drop is
+// reported and passes, a layout without a baseline fails, one no longer listed is stale.
 #include "validation/regression/cost_baseline.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <set>
 
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
-#include "tests/json_file.h"
 #include "tests/paths.h"
+#include "tests/validation/regression_fixture.h"
+#include "validation/regression/regression_run.h"
 
 namespace {
 
@@ -23,25 +24,29 @@ using oct::CostReport;
 using oct::CostRow;
 using oct::CostTotals;
 using oct::CostVerdict;
+using oct::RegressionMode;
 
 using octtest::kRoot;
-const std::string kBaselines = OCT_SOURCE_DIR "/tests/data/cost_baselines.json";
-
 using octtest::readJson;
 
+CostReport checkCost(const std::string& manifest) {
+    return *oct::runRegression(manifest, RegressionMode::Check, kRoot).cost;
+}
+
 TEST(CostBaseline, CommittedBaselinesAreReproducedExactly) {
-    const CostReport r = oct::checkCostBaselines(kBaselines, kRoot);
+    const CostReport r = checkCost(octtest::kRegressionManifest);
     EXPECT_TRUE(r.passes()) << oct::humanSummary(r);
-    std::set<std::string> scenes;
+    std::set<std::string> scenes, views;
     for (const CostRow& row : r.rows) {
         scenes.insert(row.scene);
+        views.insert(row.view);
         // Traversal is deterministic: an unchanged build gives the same totals, not just ones
         // within the tolerance. A change here needs --update and a reason in the commit.
         EXPECT_EQ(row.verdict, CostVerdict::Same)
-            << row.scene << " " << row.layout << ": " << oct::humanSummary(r);
+            << row.scene << " " << row.view << " " << row.layout << ": " << oct::humanSummary(r);
     }
-    EXPECT_EQ(r.rows.size(), scenes.size() * oct::layouts().size());
-    EXPECT_GE(scenes.size(), 10u);
+    EXPECT_GE(scenes.size(), 11u);
+    EXPECT_GE(views.size(), 7u);  // the traversal's order shows along each axis
 }
 
 TEST(CostBaseline, JudgeRule) {
@@ -69,19 +74,17 @@ TEST(CostBaseline, JudgeRule) {
               CostVerdict::Missing);
 }
 
-// The committed file cut down to the teapot, with `edit` applied to its baselines.
+// The teapot's default frame alone, with `edit` applied to its cost baselines (by layout).
 template <class Edit>
-std::string teapotFile(const octtest::TempDir& dir, Edit edit) {
-    json j = readJson(kBaselines);
-    json kept = json::array();
-    for (json& s : j["scenes"])
-        if (s["scene"] == "meshes/teapot.obj") kept.push_back(s);
-    EXPECT_EQ(kept.size(), 1u);
-    edit(kept[0]["layouts"]);
-    j["scenes"] = kept;
-    const std::string path = dir.str("cost.json");
-    std::ofstream(path) << j.dump(2);
-    return path;
+std::string teapotManifest(const octtest::TempDir& dir, Edit edit) {
+    return octtest::copyRegression(dir.path(), {"teapot.obj"}, [&](json& m) {
+        json& e = m["scenes"][0];
+        e.erase("views");
+        json f = e["frames"][0];
+        ASSERT_EQ(f["view"], "default");
+        edit(f["cost"]);
+        e["frames"] = json::array({f});
+    });
 }
 
 TEST(CostBaseline, InflatedCostFails) {
@@ -91,11 +94,11 @@ TEST(CostBaseline, InflatedCostFails) {
     std::string victim;
     for (const oct::LayoutDesc& l : oct::layouts())
         if (l.usesOctree && victim.empty()) victim = l.name;
-    const std::string path = teapotFile(dir, [&](json& layouts) {
+    const std::string path = teapotManifest(dir, [&](json& layouts) {
         json& v = layouts[victim];
         v["nodes"] = uint64_t(std::floor(v["nodes"].get<uint64_t>() / 1.10));
     });
-    const CostReport r = oct::checkCostBaselines(path, kRoot);
+    const CostReport r = checkCost(path);
     EXPECT_FALSE(r.passes());
     EXPECT_EQ(r.failures(), 1u) << oct::humanSummary(r);
     for (const CostRow& row : r.rows)
@@ -109,13 +112,13 @@ TEST(CostBaseline, DropIsReportedAndMissingLayoutFails) {
     octtest::TempDir dir("cost_drop");
     std::string first, last;
     for (const oct::LayoutDesc& l : oct::layouts()) (first.empty() ? first : last) = l.name;
-    const std::string path = teapotFile(dir, [&](json& layouts) {
+    const std::string path = teapotManifest(dir, [&](json& layouts) {
         json& v = layouts[first];
         v["prims"] = v["prims"].get<uint64_t>() * 2;  // the build now does half the work
         layouts.erase(last);
         layouts["retired"] = {{"nodes", 1}, {"prims", 1}};
     });
-    const CostReport r = oct::checkCostBaselines(path, kRoot);
+    const CostReport r = checkCost(path);
     int dropped = 0, missing = 0, stale = 0;
     for (const CostRow& row : r.rows) {
         dropped += row.verdict == CostVerdict::Dropped;
@@ -128,24 +131,23 @@ TEST(CostBaseline, DropIsReportedAndMissingLayoutFails) {
     EXPECT_EQ(r.failures(), 1u) << oct::humanSummary(r);  // only the missing one
 }
 
-TEST(CostBaseline, UpdateRewritesTheFile) {
+TEST(CostBaseline, UpdateRewritesTheManifest) {
     octtest::TempDir dir("cost_update");
-    const std::string path = teapotFile(dir, [](json& layouts) { layouts.clear(); });
-    const CostReport u = oct::updateCostBaselines(path, kRoot);
+    const std::string path = teapotManifest(dir, [](json& layouts) { layouts.clear(); });
+    const CostReport u = *oct::runRegression(path, RegressionMode::Update, kRoot).cost;
     EXPECT_TRUE(u.passes());
     EXPECT_EQ(u.rows.size(), oct::layouts().size());
     for (const CostRow& row : u.rows) EXPECT_EQ(row.verdict, CostVerdict::Missing);
-    const CostReport again = oct::checkCostBaselines(path, kRoot);
+    const CostReport again = checkCost(path);
     EXPECT_TRUE(again.passes()) << oct::humanSummary(again);
     for (const CostRow& row : again.rows) EXPECT_EQ(row.verdict, CostVerdict::Same);
-    // The same numbers as the committed file.
-    const json mine = readJson(path)["scenes"][0]["layouts"];
-    const json committed = readJson(kBaselines);  // the loop must not outlive it
-    for (const json& s : committed["scenes"]) {
-        if (s["scene"] == "meshes/teapot.obj") {
-            EXPECT_EQ(mine, s["layouts"]);
+    // The same numbers as the committed manifest.
+    const json mine = readJson(path)["scenes"][0]["frames"][0]["cost"];
+    const json committed = readJson(octtest::kRegressionManifest);  // outlives the loop
+    for (const json& s : committed["scenes"])
+        if (s["scene"] == "meshes/teapot.obj" && !s.contains("name")) {
+            EXPECT_EQ(mine, s["frames"][0]["cost"]);
         }
-    }
 }
 
 }  // namespace

@@ -1,6 +1,6 @@
-// `octrace validate --golden DIR --cost-baseline FILE` as a user runs it from the repository
-// root: PASS (exit 0, `golden` and `cost_baseline` in the JSON) on the committed files, FAIL
-// (exit 1, one error line) on an altered image or an inflated cost, and --update rewrites.
+// `octrace validate --regression FILE` as a user runs it from the repository root: PASS (exit 0,
+// `golden` and `cost_baseline` in the JSON) on the committed manifest, FAIL (exit 1, one error
+// line) on an altered image or an inflated cost, --update rewrites, --regression-add adds.
 // Skipped without the octrace binary of the same build.
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
 #include "tests/json_file.h"
+#include "tests/validation/regression_fixture.h"
 #include "validation/regression/golden.h"
 
 namespace {
@@ -30,16 +31,13 @@ RunResult run(const std::vector<std::string>& args) {
 
 using octtest::readJson;
 
-// A golden folder of one committed image: its manifest row and PNG copied into `to`.
-void copyOneGolden(const fs::path& to, const std::string& file) {
-    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
-    json kept = json::array();
-    for (const json& e : m["images"])
-        if (e["file"] == file) kept.push_back(e);
-    m["images"] = kept;
-    fs::create_directories(to);
-    std::ofstream(to / "golden.json") << m.dump(2);
-    fs::copy_file(fs::path(OCT_SOURCE_DIR "/tests/data/golden") / file, to / file);
+// A manifest of the committed entry `name`, its default view alone, and its image, in `to`.
+std::string copyOne(const fs::path& to, const std::string& name) {
+    return octtest::copyRegression(to, {name}, [](json& m) {
+        json& e = m["scenes"][0];
+        e.erase("views");
+        e["frames"] = json::array({e["frames"][0]});
+    });
 }
 
 class RegressionCli : public ::testing::Test {
@@ -51,8 +49,8 @@ protected:
 };
 
 TEST_F(RegressionCli, CommittedFilesPass) {
-    RunResult r = run({"validate", "--golden", "tests/data/golden", "--cost-baseline",
-                       "tests/data/cost_baselines.json", "--json", "-"});
+    RunResult r =
+        run({"validate", "--regression", "tests/data/regression/regression.json", "--json", "-"});
     ASSERT_EQ(r.status, 0) << r.err;
     json j;
     ASSERT_NO_THROW(j = json::parse(r.out)) << r.out;
@@ -68,51 +66,70 @@ TEST_F(RegressionCli, CommittedFilesPass) {
 TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
     octtest::TempDir dir("regression_cli_bad");
     // One image, altered: 40 pixels off by 3 levels.
-    json m = readJson(OCT_SOURCE_DIR "/tests/data/golden/golden.json");
-    json kept = json::array();
-    for (const json& e : m["images"])
-        if (e["file"] == "cube_binary.ply.png") kept.push_back(e);
-    m["images"] = kept;
-    fs::create_directories(dir.path() / "golden");
-    std::ofstream(dir.path() / "golden" / "golden.json") << m.dump(2);
+    const std::string manifest = copyOne(dir.path(), "cube_binary.ply");
     int w = 0, h = 0;
-    std::vector<uint8_t> rgb =
-        oct::readPngRgb(OCT_SOURCE_DIR "/tests/data/golden/cube_binary.ply.png", w, h);
+    std::vector<uint8_t> rgb = oct::readPngRgb(dir.str("cube_binary.ply.png"), w, h);
+    const std::vector<uint8_t> committed = rgb;
     for (int i = 0; i < 40; ++i) {
         uint8_t& v = rgb[3 * size_t(i * 300)];
         v = uint8_t(v >= 3 ? v - 3 : v + 3);
     }
-    oct::writePng((dir.path() / "golden" / "cube_binary.ply.png").string(), w, h, rgb);
-    RunResult r = run({"validate", "--golden", (dir.path() / "golden").string()});
+    oct::writePng(dir.str("cube_binary.ply.png"), w, h, rgb);
+    RunResult r = run({"validate", "--regression", manifest});
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("FAIL"), std::string::npos) << r.out;
     EXPECT_NE(r.err.find("validation FAILED"), std::string::npos) << r.err;
     EXPECT_TRUE(octtest::isOneLineVerdict(r, 1));
+    oct::writePng(dir.str("cube_binary.ply.png"), w, h, committed);
 
-    // The cost of one scene's layouts, baselines halved: the build costs twice as much.
-    json c = readJson(OCT_SOURCE_DIR "/tests/data/cost_baselines.json");
-    json scenes = json::array();
-    for (json& s : c["scenes"])
-        if (s["scene"] == "meshes/cube_binary.ply") {
-            for (auto& [name, v] : s["layouts"].items())
-                v["prims"] = v["prims"].get<uint64_t>() / 2;
-            scenes.push_back(s);
-        }
-    c["scenes"] = scenes;
-    const std::string cost = dir.str("cost.json");
-    std::ofstream(cost) << c.dump(2);
-    r = run({"validate", "--cost-baseline", cost, "--json", dir.str("report.json")});
+    // The cost of the cube's layouts, baselines halved: the build costs twice as much.
+    json m = readJson(manifest);
+    for (auto& [name, v] : m["scenes"][0]["frames"][0]["cost"].items())
+        v["prims"] = v["prims"].get<uint64_t>() / 2;
+    std::ofstream(manifest) << m.dump(2);
+    r = run({"validate", "--regression", manifest, "--json", dir.str("report.json")});
     EXPECT_EQ(r.status, 1) << r.out << r.err;
     EXPECT_NE(r.out.find("increased"), std::string::npos) << r.out;
     EXPECT_FALSE(readJson(dir.path() / "report.json")["cost_baseline"]["pass"].get<bool>());
+    EXPECT_TRUE(readJson(dir.path() / "report.json")["golden"]["pass"].get<bool>());
 
     // --update rewrites both and passes; a second check is clean.
-    r = run({"validate", "--golden", (dir.path() / "golden").string(), "--cost-baseline", cost,
-             "--update"});
+    oct::writePng(dir.str("cube_binary.ply.png"), w, h, rgb);
+    r = run({"validate", "--regression", manifest, "--update"});
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("40 pixels changed"), std::string::npos) << r.out;
-    r = run({"validate", "--golden", (dir.path() / "golden").string(), "--cost-baseline", cost});
+    r = run({"validate", "--regression", manifest});
     EXPECT_EQ(r.status, 0) << r.out << r.err;
+}
+
+// Adding a scene in two commands, as docs/VALIDATION.md shows: --regression-add, then the check.
+TEST_F(RegressionCli, ASceneIsAddedWithItsLayoutsViewsAndSizeAndThenPasses) {
+    octtest::TempDir dir("regression_cli_add");
+    const std::string manifest = copyOne(dir.path(), "cube_binary.ply");
+    RunResult r = run({"validate", "--regression", manifest, "--regression-add",
+                       "meshes/sphere_with_hole.stl", "--regression-name", "hole", "--layouts",
+                       "linear,compact", "--views", "default,-x", "--size", "48x32"});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    EXPECT_NE(r.out.find("hole-xneg.png"), std::string::npos) << r.out;
+    const json e = readJson(manifest)["scenes"][1];
+    EXPECT_EQ(e["name"], "hole");
+    EXPECT_EQ(e["layouts"], json({"linear", "compact"}));
+    EXPECT_EQ(e["height"], 32);
+    r = run({"validate", "--regression", manifest, "--json", dir.str("report.json")});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    int rows = 0;
+    const json report = readJson(dir.path() / "report.json");  // outlives the loop
+    for (const json& row : report["golden"]["images"])
+        rows += row["scene"] == "meshes/sphere_with_hole.stl";
+    EXPECT_EQ(rows, 2 * 3);  // two views x (linear, compact, embree)
+    // Options that only --regression-add reads, without it, are refused.
+    r = run({"validate", "--regression", manifest, "--layouts", "hash"});
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_TRUE(octtest::isOneLineError(r));
+    r = run({"validate", "--regression", manifest, "--regression-add", "meshes/teapot.obj",
+             "--views", "sideways"});
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("sideways"), std::string::npos) << r.err;
 }
 
 // --backend: every backend of our kernel in the list renders each image; one that cannot run
@@ -120,7 +137,7 @@ TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
 // image fails on every backend present.
 TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPassed) {
     octtest::TempDir dir("regression_cli_backends");
-    copyOneGolden(dir.path() / "golden", "cube_binary.ply.png");
+    const std::string manifest = copyOne(dir.path(), "cube_binary.ply");
     std::string list;
     std::vector<std::string> present, absent;
     for (const oct::BackendDesc& b : oct::backends()) {
@@ -130,8 +147,8 @@ TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPas
         (b.available(why) ? present : absent).push_back(b.name);
     }
     auto check = [&](bool altered) {
-        RunResult r = run({"validate", "--golden", (dir.path() / "golden").string(), "--backend",
-                           list, "--json", dir.str("report.json")});
+        RunResult r = run({"validate", "--regression", manifest, "--backend", list, "--json",
+                           dir.str("report.json")});
         const json j = readJson(dir.path() / "report.json");
         EXPECT_EQ(r.status, altered ? 1 : absent.empty() ? 0 : 3) << r.out << r.err;
         EXPECT_FALSE(j["pass"].get<bool>() && !absent.empty());
@@ -153,10 +170,9 @@ TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPas
     };
     check(false);
     int w = 0, h = 0;
-    std::vector<uint8_t> rgb =
-        oct::readPngRgb(OCT_SOURCE_DIR "/tests/data/golden/cube_binary.ply.png", w, h);
+    std::vector<uint8_t> rgb = oct::readPngRgb(dir.str("cube_binary.ply.png"), w, h);
     for (size_t i = 0; i < rgb.size(); i += 3 * 7) rgb[i] = uint8_t(rgb[i] ^ 0x40);
-    oct::writePng((dir.path() / "golden" / "cube_binary.ply.png").string(), w, h, rgb);
+    oct::writePng(dir.str("cube_binary.ply.png"), w, h, rgb);
     check(true);
 }
 
@@ -164,22 +180,22 @@ TEST_F(RegressionCli, EveryBackendAskedForIsCheckedAndAnAbsentOneIsSkippedNotPas
 // comparison, and index.html naming them; a pass writes nothing (unless --artifacts-always).
 TEST_F(RegressionCli, AFailingImageLeavesItsFramesAndAPageAPassNothing) {
     octtest::TempDir dir("regression_cli_artifacts");
-    copyOneGolden(dir.path() / "golden", "teapot.obj.png");
-    const std::string golden = (dir.path() / "golden").string();
-    RunResult r = run({"validate", "--golden", golden, "--artifacts", dir.str("pass")});
+    const std::string golden = copyOne(dir.path() / "golden", "teapot.obj");
+    RunResult r = run({"validate", "--regression", golden, "--artifacts", dir.str("pass")});
     ASSERT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_FALSE(fs::exists(dir.path() / "pass")) << "a pass wrote artefacts";
-    r = run(
-        {"validate", "--golden", golden, "--artifacts", dir.str("asked"), "--artifacts-always"});
+    r = run({"validate", "--regression", golden, "--artifacts", dir.str("asked"),
+             "--artifacts-always"});
     ASSERT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_TRUE(fs::exists(dir.path() / "asked" / "index.html"));
 
     int w = 0, h = 0;
-    std::vector<uint8_t> rgb = oct::readPngRgb(golden + "/teapot.obj.png", w, h);
+    const std::string teapotPng = (dir.path() / "golden" / "teapot.obj.png").string();
+    std::vector<uint8_t> rgb = oct::readPngRgb(teapotPng, w, h);
     for (int y = 40; y < 50; ++y)
         for (int x = 40; x < 50; ++x) rgb[3 * size_t(y * w + x)] ^= 0x80;  // 100 pixels off
-    oct::writePng(golden + "/teapot.obj.png", w, h, rgb);
-    r = run({"validate", "--golden", golden, "--artifacts", dir.str("fail")});
+    oct::writePng(teapotPng, w, h, rgb);
+    r = run({"validate", "--regression", golden, "--artifacts", dir.str("fail")});
     ASSERT_EQ(r.status, 1) << r.out << r.err;
     std::ifstream in(dir.path() / "fail" / "index.html");
     const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -199,14 +215,15 @@ TEST_F(RegressionCli, AFailingImageLeavesItsFramesAndAPageAPassNothing) {
             red += diff[p] == 255 && diff[p + 1] == 0 && diff[p + 2] == 0;
         EXPECT_EQ(red, 100u) << l.name;
     }
-    EXPECT_NE(page.find("100 over 1/255"), std::string::npos) << page.substr(0, 600);
+    // Our kernel's rule: no pixel over 0/255.
+    EXPECT_NE(page.find("100 over 0/255"), std::string::npos) << page.substr(0, 600);
 }
 
 TEST_F(RegressionCli, NothingToDoIsRefused) {
     RunResult r = run({"validate", "--update"});
     EXPECT_NE(r.status, 0);
     EXPECT_TRUE(octtest::isOneLineError(r));
-    EXPECT_NE(r.err.find("--golden"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--regression"), std::string::npos) << r.err;
 }
 
 }  // namespace

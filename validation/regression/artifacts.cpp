@@ -95,7 +95,6 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
         out.stage(path, encodePng(path, width, height, rgb));
         w.files.push_back(path);
     };
-    const int channel = r.golden ? r.golden->tolerance.channel : 1;
     std::string page = std::string(
                            "<!doctype html><meta charset=\"utf-8\"><title>octrace "
                            "regression</title><style>") +
@@ -108,14 +107,21 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
     if (r.golden) {
         page += fmt("<h2>Golden images: %zu of %zu comparisons fail</h2>", images.size(),
                     r.golden->rows.size());
-        page += fmt(
-            "<p>Rule: at most %.3g%% of the pixels over %d/255 (d: a pixel's largest channel "
-            "difference). Diff: <span class=key style=\"background:#555\"></span> d = 0 (the "
-            "golden, dimmed) <span class=key style=\"background:rgb(40,110,255)\"></span> 0 &lt; "
-            "d &le; %d/255 <span class=key style=\"background:red\"></span> d &gt; %d/255, "
-            "counted by the rule.</p>",
-            100.0 * r.golden->tolerance.maxOverFraction, channel, channel, channel);
+        page +=
+            "<p>d: a pixel's largest channel difference, in 1/255 steps. Diff: <span class=key "
+            "style=\"background:#555\"></span> d = 0 (the golden, dimmed) <span class=key "
+            "style=\"background:rgb(40,110,255)\"></span> d within the backend's channel "
+            "tolerance <span class=key style=\"background:red\"></span> d over it, counted by "
+            "the rule.</p>";
         for (const GoldenRow* row : images) {
+            const std::string title = "<h3>" + html(row->scene) + " (view " + html(row->view) +
+                                      "): " + html(row->tracer) + " on " + html(row->backend) +
+                                      "</h3>";
+            if (row->missing) {
+                page += title + "<p>No golden image for this frame: rerun with --update.</p>";
+                continue;
+            }
+            const int channel = row->tolerance.channel;
             const std::string stem = safeName(row->file + "-" + row->tracer + "-" + row->backend);
             const GoldenImages& im = row->images;
             stagePng(stem + "-actual.png", im.width, im.height, im.actual);
@@ -123,17 +129,17 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
             const std::vector<uint8_t> diff = goldenDiffImage(im, channel);
             if (!diff.empty()) stagePng(stem + "-diff.png", im.goldenWidth, im.goldenHeight, diff);
             page +=
-                "<h3>" + html(row->scene) + ": " + html(row->tracer) + " on " + html(row->backend) +
-                "</h3><p>" +
+                title + "<p>" +
                 (row->diff.sizeMismatch
                      ? fmt("The frame is %dx%d, the golden %dx%d: no diff.", im.width, im.height,
                            im.goldenWidth, im.goldenHeight)
                      : fmt("%llu of %llu pixels differ, %llu over %d/255 (the rule allows "
-                           "%.0f); largest %d/255 at (%d, %d).",
+                           "%.0f, %s's); largest %d/255 at (%d, %d).",
                            (unsigned long long)row->diff.differing,
                            (unsigned long long)row->diff.pixels, (unsigned long long)row->diff.over,
-                           channel, r.golden->tolerance.maxOverFraction * double(row->diff.pixels),
-                           row->diff.maxDiff, row->diff.worstX, row->diff.worstY)) +
+                           channel, row->tolerance.maxOverFraction * double(row->diff.pixels),
+                           row->backend.c_str(), row->diff.maxDiff, row->diff.worstX,
+                           row->diff.worstY)) +
                 "</p><table><tr><th>this build</th><th>golden</th><th>diff</th></tr><tr>";
             for (const char* kind : {"actual", "golden", "diff"})
                 page += (std::string(kind) == "diff" && diff.empty())
@@ -147,13 +153,15 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
                     costs.size(), r.cost->rows.size(), 100.0 * r.cost->tolerance);
         if (!costs.empty()) {
             page +=
-                "<table><tr><th>scene</th><th>layout</th><th>backend</th><th>verdict</th><th>"
+                "<table><tr><th>scene</th><th>view</th><th>layout</th><th>backend</th><th>verdict</"
+                "th><th>"
                 "baseline nodes / prims per pixel</th><th>now</th><th>change nodes, "
                 "prims</th></tr>";
             for (const CostRow* c : costs)
-                page += "<tr><td>" + html(c->scene) + "</td><td>" + html(c->layout) + "</td><td>" +
-                        html(c->backend) + "</td><td>" + costVerdictName(c->verdict) + "</td><td>" +
-                        costCell(c->baseline) + "</td><td>" + costCell(c->now) + "</td><td>" +
+                page += "<tr><td>" + html(c->scene) + "</td><td>" + html(c->view) + "</td><td>" +
+                        html(c->layout) + "</td><td>" + html(c->backend) + "</td><td>" +
+                        costVerdictName(c->verdict) + "</td><td>" + costCell(c->baseline) +
+                        "</td><td>" + costCell(c->now) + "</td><td>" +
                         fmt("%+.2f%%, %+.2f%%", 100.0 * c->nodesChange, 100.0 * c->primsChange) +
                         "</td></tr>";
             page += "</table>";

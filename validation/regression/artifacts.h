@@ -6,7 +6,7 @@
 //
 // The diff image (golden's size; the frame's pixels over it):
 //   the golden pixel at a third of its brightness   d = 0 (the same)
-//   blue                                            0 < d <= the tolerance's channel levels
+//   blue                                            0 < d <= the backend's channel tolerance
 //   red                                             d > channel levels: counted by the rule
 // where d is a pixel's largest channel difference in 1/255 steps (golden.h, compareImages).
 #pragma once
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "validation/regression/regression_files.h"
+#include "validation/regression/regression_run.h"
 
 namespace oct {
 

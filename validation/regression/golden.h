@@ -1,20 +1,9 @@
-// Golden images: regression of the whole per-pixel kernel, shading included. The committed
-// scenes are rendered at a small size with the default camera and compared per pixel with
-// images committed under tests/data/golden/, so that a faulty kernel is caught even where
-// every hit is right (a sign in Phong, a dropped shadow ray, a wrong normal). docs/VALIDATION.md
-// ("Golden images") has the tolerance rule and why.
-//
-// The folder holds golden.json and one PNG per scene:
-//
-//   {"format": "octrace-golden", "version": 1, "octrace": "0.1.0",
-//    "render": {"width": 128, "height": 128, "camera": "default", "max_depth": 7,
-//               "max_prims": 8, "radius": 0},
-//    "images": [{"scene": "meshes/teapot.obj", "file": "teapot.obj.png"}, ...]}
-//
-// `scene` is as on the command line (a path relative to the repository root, or grid:N:SEED);
-// `radius` 0 is the default point radius rule; `octrace` is the version that wrote the images.
-// The render options are fixed by the file; the tolerance is fixed by the code (a file that
-// could loosen its own check would not be a check).
+// Golden images: regression of the whole per-pixel kernel, shading included. The scenes of the
+// regression set (regression_manifest.h) are rendered at a small size from their views and
+// compared per pixel with images committed beside the manifest (tests/data/regression/), so
+// that a faulty kernel is caught even where every hit is right (a sign in Phong, a dropped
+// shadow ray, a wrong normal). docs/VALIDATION.md ("Golden images") has the tolerance rule
+// and why. This file holds the comparison and its report; regression_run.h runs the set.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -61,37 +50,30 @@ struct GoldenImages {
 };
 
 struct GoldenRow {
-    std::string scene, file, tracer, backend;
+    std::string scene, view, file, tracer, backend;
+    RegressionRender render;    // the frame's size and tree
+    GoldenTolerance tolerance;  // the backend's rule
     ImageDiff diff;
+    bool missing = false;  // the manifest has no image for this frame: --update
     bool pass = false;
     GoldenImages images;  // only for a failing row of a check (empty otherwise)
 };
 
+// Compares a rendered frame with its golden image under `tolerance` (keeps the pixels of a
+// failing row for the artefacts).
+GoldenRow judgeImage(GoldenRow row, const Film& frame, int goldenWidth, int goldenHeight,
+                     const std::vector<uint8_t>& golden);
+
 struct GoldenReport {
-    std::string dir;
+    std::string manifest;
     std::string goldenVersion;  // the octrace version that wrote the images
-    RegressionRender render;
-    GoldenTolerance tolerance;
-    bool updated = false;  // rows compare the new images with the old ones (update mode)
+    bool updated = false;       // rows compare the new images with the old ones (update mode)
     std::vector<GoldenRow> rows;
     double seconds = 0.0;
 
-    uint64_t failures() const;
+    uint64_t failures() const;  // 0 in update mode
     bool passes() const { return failures() == 0; }
 };
-
-// Reads DIR/golden.json and checks every image against every tracer. Throws (one line, naming
-// the file) on a missing or malformed manifest or image.
-// `backends`: those of our kernel to render with (renderRegressionFrames; empty: the host's).
-GoldenReport checkGolden(const std::string& dir, const std::string& root, bool embree = true,
-                         const GoldenTolerance& tolerance = {},
-                         const std::vector<const BackendDesc*>& backends = {});
-
-// Re-renders every image of DIR/golden.json and writes the PNGs and the manifest (with this
-// build's version), all or none. The layouts must agree bit for bit (else nothing is written:
-// a golden image that depends on the layout is not one). Rows compare each new image with the
-// old one (a missing old image counts as every pixel changed), so the report says what changed.
-GoldenReport updateGolden(const std::string& dir, const std::string& root);
 
 nlohmann::json toJson(const GoldenReport& r);
 std::string humanSummary(const GoldenReport& r);

@@ -1,5 +1,6 @@
 #include "validation/regression/regression_render.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
@@ -9,6 +10,7 @@
 #include "core/octree/built_scene.h"
 #include "core/scene/load_scene.h"
 #include "core/scene/scene_generators.h"
+#include "validation/validate.h"
 
 namespace oct {
 namespace {
@@ -38,18 +40,6 @@ void regression_detail::badField(const std::string& file, const char* name, bool
                   (missing ? "'" : "' has the wrong type") + "; restore the file from git");
 }
 
-RegressionRender regressionRenderFromJson(const json& j, const std::string& file) {
-    RegressionRender r;
-    r.width = field<int>(j, "width", file);
-    r.height = field<int>(j, "height", file);
-    if (field<std::string>(j, "camera", file) != "default")
-        throw IoError(file + ": render.camera must be \"default\" (the framing of makeFrame)");
-    r.build.maxDepth = field<int>(j, "max_depth", file);
-    r.build.maxPrims = field<uint32_t>(j, "max_prims", file);
-    r.radius = field<float>(j, "radius", file);
-    return r;
-}
-
 json toJson(const RegressionRender& r) {
     return {{"width", r.width},
             {"height", r.height},
@@ -59,11 +49,31 @@ json toJson(const RegressionRender& r) {
             {"radius", r.radius}};
 }
 
-std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
-                                                const std::string& root,
-                                                const RegressionRender& render, bool embree,
-                                                const std::string& file,
-                                                const std::vector<const BackendDesc*>& backends) {
+CameraOptions viewCamera(const std::string& view, const Scene& scene, int width, int height) {
+    CameraOptions cam;
+    cam.width = width;
+    cam.height = height;
+    if (view == "inside") return insideViewCamera(scene, cam);
+    if (view == "default") return cam;
+    const float sign = view[0] == '-' ? -1.0f : 1.0f;
+    switch (view.size() == 2 ? view[1] : '?') {
+        case 'x':
+            cam.from = {sign, 0.0f, 0.0f};
+            return cam;
+        case 'y':  // looking along the up vector: up is the side of -z (from +y) or +z
+            cam.from = {0.0f, sign, 0.0f};
+            cam.up = Vec3{0.0f, 0.0f, -sign};
+            return cam;
+        case 'z':
+            cam.from = {0.0f, 0.0f, sign};
+            return cam;
+        default:
+            throw std::runtime_error("no regression view called '" + view + "'");
+    }
+}
+
+Scene loadRegressionScene(const std::string& sceneName, const std::string& root,
+                          const RegressionRender& render, const std::string& file) {
     std::string path = sceneName;
     if (!isGenerated(sceneName)) {
         path = (std::filesystem::path(root) / sceneName).string();
@@ -74,35 +84,51 @@ std::vector<TracedFrame> renderRegressionFrames(const std::string& sceneName,
     }
     LoadOptions lo;
     lo.radius = render.radius;
-    const Scene scene = loadScene(path, lo);
-    CameraOptions cam;
-    cam.width = render.width;
-    cam.height = render.height;
-    const FrameParams frame = makeFrame(scene.bounds(), cam);
+    return loadScene(path, lo);
+}
+
+std::vector<TracedFrame> renderRegressionFrames(const Scene& scene, const RegressionRender& render,
+                                                const std::vector<std::string>& views,
+                                                const std::vector<std::string>& layoutNames,
+                                                bool embree,
+                                                const std::vector<const BackendDesc*>& backends) {
+    std::vector<FrameParams> frames;
+    for (const std::string& v : views)
+        frames.push_back(
+            makeFrame(scene.bounds(), viewCamera(v, scene, render.width, render.height)));
+    std::vector<const LayoutDesc*> chosen;
+    for (const LayoutDesc& l : layouts())
+        if (layoutNames.empty() ||
+            std::find(layoutNames.begin(), layoutNames.end(), l.name) != layoutNames.end())
+            chosen.push_back(&l);
     LayoutOptions opts;
     opts.build = render.build;
-    std::shared_ptr<const Octree> tree = buildSharedOctree(scene, render.build);
+    std::shared_ptr<const Octree> tree;
+    for (const LayoutDesc* l : chosen)
+        if (l->usesOctree && !tree) tree = buildSharedOctree(scene, render.build);
     std::vector<const BackendDesc*> ours = backends;
     if (ours.empty()) ours.push_back(&hostBackend());
     std::vector<TracedFrame> out;
-    for (const LayoutDesc& l : layouts()) {
-        // Converted once, rendered on every backend.
-        const BuiltScene built = convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts);
-        for (const BackendDesc* b : ours) {
-            TracedFrame f;
-            f.tracer = l.name;
-            f.backend = b->name;
-            renderWith(*b, built, frame, f.film);
-            out.push_back(std::move(f));
-        }
+    auto renderOne = [&](const BackendDesc& b, const BuiltScene& built, const char* tracer,
+                         size_t view) {
+        TracedFrame f;
+        f.tracer = tracer;
+        f.backend = b.name;
+        f.view = views[view];
+        f.usesLayouts = b.usesLayouts;
+        renderWith(b, built, frames[view], f.film);
+        out.push_back(std::move(f));
+    };
+    for (const LayoutDesc* l : chosen) {
+        // Converted once, rendered from every view on every backend.
+        const BuiltScene built = convertLayout(scene, l->usesOctree ? tree : nullptr, *l, opts);
+        for (size_t v = 0; v < views.size(); ++v)
+            for (const BackendDesc* b : ours) renderOne(*b, built, l->name, v);
     }
     if (embree) {
-        TracedFrame f;
-        f.tracer = referenceBackend().name;
-        f.backend = referenceBackend().name;
-        f.usesLayouts = false;
-        renderWith(referenceBackend(), bareScene(scene), frame, f.film);
-        out.push_back(std::move(f));
+        const BuiltScene bare = bareScene(scene);
+        for (size_t v = 0; v < views.size(); ++v)
+            renderOne(referenceBackend(), bare, referenceBackend().name, v);
     }
     return out;
 }

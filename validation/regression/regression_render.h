@@ -1,7 +1,6 @@
-// What the regression files (golden images, cost baselines) share: the fixed frame they pin,
-// reading their JSON with one-line errors, and the frames of one scene by every layout. Both
-// files are checked against this build or rewritten from it (RegressionMode) by one skeleton
-// each: read the file, render each scene it lists, compare or rewrite.
+// What the regression set's checks (golden images, cost baselines) share: the frame of a scene,
+// its views, reading JSON with one-line errors, and the frames of one scene by every layout and
+// backend, from every view.
 #pragma once
 
 #include <chrono>
@@ -12,41 +11,54 @@
 #include "core/backend/backend.h"
 #include "core/octree/octree.h"
 #include "core/render/film.h"
+#include "core/render/frame.h"
+#include "core/scene/scene.h"
 
 namespace oct {
 
-// Check: compare the file with this build. Update: rewrite it from this build, reporting what
-// changed.
-enum class RegressionMode { Check, Update };
+// Check: compare the manifest's derived fields with this build. Update: rewrite them from this
+// build, reporting what changed. Add: a new scene's, the others untouched.
+enum class RegressionMode { Check, Update, Add };
 
-// The fixed frame of the regression files (golden images and cost baselines).
+// The fixed frame of one scene of the regression set (regression_manifest.h).
 struct RegressionRender {
     int width = 128, height = 128;  // default camera (makeFrame) at this size
     BuildParams build;              // max depth, max prims
     float radius = 0.0f;            // point clouds; 0: the default rule
 };
 
-RegressionRender regressionRenderFromJson(const nlohmann::json& j, const std::string& file);
 nlohmann::json toJson(const RegressionRender& r);
 
-// One frame of a scene per tracer: every layout of the registry on each backend of `backends`
-// (backends of our kernel, available here; empty: the backend list's host backend), layouts in
-// registry order, each converted once and rendered on the backends in list order (tracer = the
-// layout's name, backend = the backend's),
-// then, with `embree`, the reference backend's hits shaded by the same kernel (tracer and
-// backend its name). `scene` is resolved against `root` unless it is a generator spec; a
-// missing file is an error naming the listing `file` and the root.
+// The camera of a view (regression_manifest.h, regressionViewNames): "default" is makeFrame's
+// framing (from +z); "+x", "-x", "+y", "-y", "-z" the same framing from that side (up +y, or
+// -z from +y and +z from -y); "inside" validate's inside view (insideViewCamera: the eye at the
+// centre, the light just above it, so that shadow rays run with geometry beyond the light).
+CameraOptions viewCamera(const std::string& view, const Scene& scene, int width, int height);
+
+// A scene of the manifest `file`: resolved against `root` unless it is a generator spec; a
+// missing file is an error naming the manifest and the root.
+Scene loadRegressionScene(const std::string& scene, const std::string& root,
+                          const RegressionRender& render, const std::string& file);
+
+// One frame per view and tracer: each layout of `layoutNames` (empty: every layout of the
+// registry, in registry order) converted once and rendered from every view on each backend of
+// `backends` (backends of our kernel, available here; empty: the host backend), tracer = the
+// layout's name, backend = the backend's; then, with `embree`, for every view the reference
+// backend's hits shaded by the same kernel (tracer and backend its name).
 struct TracedFrame {
     std::string tracer;
     std::string backend;
+    std::string view;
     bool usesLayouts = true;  // false: Embree (no traversal cost of ours)
     Film film;
 };
-std::vector<TracedFrame> renderRegressionFrames(
-    const std::string& scene, const std::string& root, const RegressionRender& render, bool embree,
-    const std::string& file, const std::vector<const BackendDesc*>& backends = {});
+std::vector<TracedFrame> renderRegressionFrames(const Scene& scene, const RegressionRender& render,
+                                                const std::vector<std::string>& views,
+                                                const std::vector<std::string>& layoutNames,
+                                                bool embree,
+                                                const std::vector<const BackendDesc*>& backends);
 
-// Reading the regression files (golden.json, cost_baselines.json): one-line IoErrors naming
+// Reading the regression manifest (regression_manifest.h): one-line IoErrors naming
 // the file and the field; a path that is not a regular file, or a file above
 // kMaxRegressionJsonBytes, is refused unread (core/io/input_file.h).
 constexpr uint64_t kMaxRegressionJsonBytes = uint64_t(16) << 20;
