@@ -1,6 +1,6 @@
 // Bad input gets one line, fast (issue 21), through the `octrace` binary: hit files, ray
 // manifests and the regression files that are FIFOs, devices or directories are refused as ray
-// files are, without reading (a FIFO hung certify and validate --golden/--cost-baseline; a
+// files are, without reading (a FIFO hung certify and validate's regression files; a
 // manifest symlinked to /dev/zero ate memory); a manifest is bounded in size; its set counts
 // are checked against the rows before any set is rebuilt; rays made for another scene are
 // refused as such. Every refusal is one line and exit status 2 (kExitError), within seconds.

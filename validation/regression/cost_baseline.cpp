@@ -120,6 +120,7 @@ json toJson(const CostReport& r) {
     json rows = json::array();
     for (const CostRow& x : r.rows)
         rows.push_back({{"scene", x.scene},
+                        {"entry", x.entry},
                         {"view", x.view},
                         {"render", toJson(x.render)},
                         {"layout", x.layout},
@@ -152,7 +153,8 @@ std::string humanSummary(const CostReport& r) {
     s += fmt(" (%.2f s)\n", r.seconds);
     for (const CostRow& x : r.rows) {
         if (x.verdict == CostVerdict::Same) continue;
-        const std::string frame = x.scene + (x.view == "default" ? "" : " " + x.view);
+        const std::string frame =
+            (x.entry.empty() ? x.scene : x.entry) + (x.view == "default" ? "" : " " + x.view);
         std::string line = fmt("  %-28s %-10s %-7s %-9s", frame.c_str(), x.layout.c_str(),
                                x.backend.c_str(), costVerdictName(x.verdict));
         if (r.updated && x.verdict == CostVerdict::Missing && x.now)

@@ -32,6 +32,7 @@ const char* costVerdictName(CostVerdict v);
 
 struct CostRow {
     std::string scene, view, layout;
+    std::string entry;        // the regression set's entry (regressionEntryName)
     RegressionRender render;  // the frame's size and tree
     std::string backend;      // the backend that measured `now` (every backend of our kernel is
                               // held to the same baseline: the kernel's work does not depend on it)

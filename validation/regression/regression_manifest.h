@@ -80,7 +80,7 @@ struct RegressionScene {
 struct RegressionManifest {
     std::string path;     // where it was read from (names in errors; images live beside it)
     std::string octrace;  // the version that wrote the derived fields
-    std::vector<std::string> backends;  // names, as in the file
+    std::vector<std::string> backends;              // names, as in the file
     std::map<std::string, GoldenTolerance> golden;  // by backend name
     double costTolerance = kCostTolerance;
     SceneSettings defaults;  // every field set

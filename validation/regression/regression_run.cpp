@@ -82,6 +82,7 @@ void staleRow(const SceneRun& run, const std::string& view, const std::string& l
               const CostTotals& totals, CostReport& cost) {
     cost.rows.push_back(judgeCost(run.s.scene, layout, totals, std::nullopt, cost.tolerance));
     cost.rows.back().view = view;
+    cost.rows.back().entry = run.name;
     cost.rows.back().render = run.render;
 }
 
@@ -121,6 +122,7 @@ void checkScene(const SceneRun& run, GoldenReport& golden, CostReport& cost) {
             cost.rows.push_back(
                 judgeCost(run.s.scene, f.tracer, base, frameCost(f.film), cost.tolerance));
             cost.rows.back().view = view;
+            cost.rows.back().entry = run.name;
             cost.rows.back().backend = f.backend;
             cost.rows.back().render = run.render;
             rendered.push_back(f.tracer);
@@ -175,6 +177,7 @@ std::vector<RegressionFrame> rewriteScene(const SceneRun& run, GoldenReport& gol
             if (old && old->cost.count(f.tracer)) before = old->cost.at(f.tracer);
             cost.rows.push_back(judgeCost(run.s.scene, f.tracer, before, now, cost.tolerance));
             cost.rows.back().view = view;
+            cost.rows.back().entry = run.name;
             cost.rows.back().backend = f.backend;
             cost.rows.back().render = run.render;
             nf.cost[f.tracer] = now;
