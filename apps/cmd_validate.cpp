@@ -144,6 +144,10 @@ RegressionAddition regressionAddition(const ValidateCliOptions& o) {
 
 // --regression's mode from the options: check, --update or --regression-add SCENE.
 RegressionMode regressionMode(const ValidateCliOptions& o) {
+    if (o.backendGiven && (o.update || !o.regressionAdd.empty()))
+        throw std::runtime_error(std::string(o.update ? "--update" : "--regression-add") +
+                                 " renders on the host backend (" + hostBackend().name +
+                                 ") alone; drop --backend, then check the other backends");
     if (!o.regressionAdd.empty()) {
         if (o.update)
             throw std::runtime_error(
