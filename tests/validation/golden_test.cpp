@@ -10,13 +10,16 @@
 #include <filesystem>
 #include <set>
 
+#include "backends/backend_list.h"
 #include "core/io/output_file.h"
+#include "core/octree/built_scene.h"
 #include "core/octree/layout_registry.h"
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
 #include "tests/validation/fixtures.h"
 #include "tests/validation/regression_fixture.h"
 #include "validation/rays/ray_manifest.h"
+#include "validation/regression/artifacts.h"
 #include "validation/regression/regression_run.h"
 
 namespace {
@@ -107,6 +110,64 @@ TEST(Golden, AlteredImageFailsOurKernelAtOnePixelAndEmbreeByTheRule) {
     r = checkAltered(1, 100);
     for (const GoldenRow& row : r.rows)
         if (row.tracer == "embree") EXPECT_TRUE(row.pass) << oct::humanSummary(r);
+}
+
+// A shading constant changed (the ambient term, +0.02), not an image edited: the teapot's frame
+// of every layout on every backend of ours present here fails its golden, and the artefacts hold
+// the three images of each failing comparison.
+TEST(Golden, AChangedShadingConstantFailsOnEveryBackendPresentAndLeavesThreeImages) {
+    const oct::RegressionManifest m = oct::readRegressionManifest(octtest::kRegressionManifest);
+    const oct::RegressionScene* entry = m.find("teapot.obj");
+    ASSERT_NE(entry, nullptr);
+    const oct::RegressionRender render = m.render(*entry);
+    const oct::Scene scene =
+        oct::loadRegressionScene(entry->scene, kRoot, render, octtest::kRegressionManifest);
+    oct::FrameParams frame = oct::makeFrame(
+        scene.bounds(), oct::viewCamera("default", scene, render.width, render.height));
+    frame.shading.ambient += 0.02f;
+    int w = 0, h = 0;
+    const std::vector<uint8_t> golden =
+        oct::readPngRgb(octtest::kRegressionDir + "/" + entry->frames[0].image, w, h);
+    oct::RegressionReport report;
+    report.golden.emplace();
+    std::set<std::string> backendsSeen;
+    const auto tree = oct::buildSharedOctree(scene, render.build);
+    for (const oct::LayoutDesc& l : oct::layouts()) {
+        oct::LayoutOptions opts;
+        opts.build = render.build;
+        const oct::BuiltScene built =
+            oct::convertLayout(scene, l.usesOctree ? tree : nullptr, l, opts);
+        for (const oct::BackendDesc& b : oct::backends()) {
+            std::string why;
+            if (!b.usesLayouts || !b.available(why)) continue;
+            oct::Film film;
+            oct::renderWith(b, built, frame, film);
+            GoldenRow row;
+            row.scene = entry->scene;
+            row.view = "default";
+            row.file = entry->frames[0].image;
+            row.tracer = l.name;
+            row.backend = b.name;
+            row.tolerance = m.goldenTolerance(b.name);
+            row = oct::judgeImage(row, film, w, h, golden);
+            EXPECT_FALSE(row.pass) << l.name << " on " << b.name;
+            EXPECT_GT(row.diff.over, 1000u) << l.name << " on " << b.name;
+            backendsSeen.insert(b.name);
+            report.golden->rows.push_back(std::move(row));
+        }
+    }
+    EXPECT_TRUE(backendsSeen.count(oct::hostBackend().name));
+    octtest::TempDir dir("golden_shading");
+    const oct::ArtifactsWritten written =
+        oct::writeRegressionArtifacts(dir.str("artifacts"), report, false);
+    EXPECT_EQ(written.failingImages, report.golden->rows.size());
+    EXPECT_EQ(written.files.size(), 1 + 3 * report.golden->rows.size());  // index.html first
+    for (const GoldenRow& row : report.golden->rows)
+        for (const char* kind : {"actual", "golden", "diff"})
+            EXPECT_TRUE(
+                fs::exists(dir.path() / "artifacts" /
+                           (row.file + "-" + row.tracer + "-" + row.backend + "-" + kind + ".png")))
+                << row.tracer << " " << row.backend << " " << kind;
 }
 
 TEST(Golden, ToleranceRuleBoundaries) {
