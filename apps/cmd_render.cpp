@@ -197,7 +197,8 @@ void registerRender(CLI::App& app) {
                     "tested), primary + shadow ray")
         ->capture_default_str();
     cmd->add_option("--heatmap-max", o->heatmapMax,
-                    "Fix the colour scale's top (default: the image's maximum), so maps of "
+                    "Fix the colour scale's top (default: the 99th percentile of the image's "
+                    "costs, the few pixels above it drawn in the top colour), so maps of "
                     "different layouts compare")
         ->check(numberIn(1, 0xffffffffu));
     cmd->add_option("--overlay-out", o->overlayOut,

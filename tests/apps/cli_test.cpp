@@ -536,7 +536,9 @@ TEST_F(Cli, HelpOfEachSubcommandListsItsOptions) {
         {"info --help", {"--json", "--max-depth", "--max-prims", "--radius", "scene"}},
         {"render --help",
          {"--out", "--size", "--accel", "--backend", "--eye", "--target", "--fov", "--light",
-          "--depth", "--prim", "--max-depth"}},
+          "--depth", "--prim", "--max-depth",
+          // The heat map's default top is what heatmapImage uses (teach/heatmap.cpp).
+          "99th percentile"}},
         {"trace --help", {"--rays", "--out", "--accel", "--backend", "--max-depth"}},
     };
     for (const Case& c : cases) {
