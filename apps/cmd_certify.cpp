@@ -43,12 +43,14 @@ std::string verdictLine(const CertifyReport& r) {
     char rate[64];
     std::snprintf(rate, sizeof rate, "%.3g (limit %.3g)", r.result.strict.ambiguousRate(),
                   r.policy.maxAmbiguousRate);
+    const std::string overSets = r.result.setsOverAmbiguousLimit();
     const Outcome o = r.outcome();
     return std::string("certification ") + outcomeName(o) + " (--require " +
            requireName(r.require) + "): correct " +
            outcomeName(r.result.correct(r.policy.maxAmbiguousRate)) + ", " +
            std::to_string(r.result.all.wrong) + " wrong" +
            (wrongSets.empty() ? "" : " (in " + wrongSets + ")") + ", ambiguous rate " + rate +
+           (overSets.empty() ? "" : ", ambiguous above the set's bound in " + overSets) +
            "; watertight " + outcomeName(r.result.watertight()) + ", " +
            std::to_string(r.result.leaks) + " leaks" +
            (leakSets.empty() ? "" : " (in " + leakSets + ")") + "; " +

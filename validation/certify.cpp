@@ -13,6 +13,7 @@
 
 #include "cpu_ref/embree_tracer.h"
 #include "cpu_ref/render_cpu.h"
+#include "validation/ambiguity_bound.h"
 
 namespace oct {
 namespace {
@@ -119,7 +120,15 @@ Outcome worse(Outcome a, Outcome b) {
 Outcome RayCertification::correct(double maxAmbiguousRate) const {
     if (all.compared == 0) return Outcome::NotTested;
     if (all.wrong > 0 || strict.ambiguousRate() > maxAmbiguousRate) return Outcome::Fail;
+    if (!setsOverAmbiguousLimit().empty()) return Outcome::Fail;
     return all.unverified > 0 ? Outcome::Incomplete : Outcome::Pass;
+}
+
+std::string RayCertification::setsOverAmbiguousLimit() const {
+    std::string over;
+    for (const SetCertification& s : sets)
+        if (!s.withinAmbiguousLimit()) over += (over.empty() ? "" : ", ") + s.range.name;
+    return over;
 }
 
 Outcome RayCertification::watertight() const {
@@ -316,7 +325,10 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
 
     // Pass 4: counts and findings per set.
     RayCertification out;
-    for (const RaySetRange& s : rays.sets) {
+    const bool baseline = rays.baseline && baselineApplies(*rays.baseline, pol);
+    out.baselineIgnored = rays.baseline && !baseline;
+    for (size_t si = 0; si < rays.sets.size(); ++si) {
+        const RaySetRange& s = rays.sets[si];
         SetCertification sc;
         sc.range = s;
         const RaySetDesc* desc = findRaySet(s.name);
@@ -331,6 +343,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         for (uint64_t i = s.begin; i < s.begin + s.count; ++i) {
             const HitClass k = HitClass(cls[i]);
             sc.counts.count(k, why[i]);
+            sc.ambiguousCounted += k == HitClass::Ambiguous && leak[i] != uint8_t(LeakState::Leak);
             const bool mismatch = queued[i] != 0;
             sc.counts.mismatches += mismatch;
             sc.counts.rechecked += queued[i] == 1;
@@ -363,6 +376,10 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                     break;
             }
         }
+        if (baseline && si < rays.baseline->ambiguous.size())
+            sc.expectedAmbiguous = rays.baseline->ambiguous[si];
+        sc.ambiguousLimit = ambiguousLimit(s.count, sc.expectedAmbiguous, sc.adversarial, pol,
+                                           ambiguousSlack(s.name));
         const size_t keep = std::min(cand.size(), size_t(std::max(pol.worstCount, 0)));
         std::partial_sort(cand.begin(), cand.begin() + keep, cand.end(), before);
         for (size_t m = 0; m < keep; ++m)

@@ -6,9 +6,10 @@
 // reference's answer, a mismatch rechecked in double and called ambiguous or wrong, or left
 // unverified past a cap the user set. The leak check needs no reference: an edges or vertices
 // ray aimed at a sealed target must hit on a surface at or before it. Two verdicts: correct (no
-// wrong answer; the ambiguous rate of the non-adversarial sets, pooled, at or below the limit)
-// and watertight (no leak); each PASS, FAIL, INCOMPLETE (unverified work and nothing wrong) or
-// not tested. A faulty tracer's output never crashes the check.
+// wrong answer; the ambiguous rate of the non-adversarial sets, pooled, at or below the limit;
+// each set's ambiguous count within its own bound, ambiguity_bound.h) and watertight (no leak);
+// each PASS, FAIL, INCOMPLETE (unverified work and nothing wrong) or not tested. A faulty
+// tracer's output never crashes the check.
 #pragma once
 
 #include <functional>
@@ -67,8 +68,18 @@ struct SetCertification {
     uint64_t leakUnverified = 0;        // candidates past the recheck cap
     std::vector<Finding> worst;         // wrong, unverified, ambiguous by row, then ties by |dt|
     std::vector<LeakFinding> leakList;  // the first ones by row
-    // No wrong ray and no leak (the ambiguous rate is judged over the sets together).
-    bool clean() const { return counts.wrong == 0 && leaks == 0; }
+    // The set's own bound on ambiguous answers (ambiguity_bound.h): the ambiguous rows that do
+    // not leak (leaks are the watertight verdict's), octrace's kernel's count on these rows
+    // when there is a baseline that applies, and the most allowed (none: no bound of its own).
+    uint64_t ambiguousCounted = 0;
+    std::optional<uint64_t> expectedAmbiguous;
+    std::optional<uint64_t> ambiguousLimit;
+    bool withinAmbiguousLimit() const {
+        return !ambiguousLimit || ambiguousCounted <= *ambiguousLimit;
+    }
+    // No wrong ray, no leak, and the ambiguous count within the set's bound (the ordinary sets'
+    // rate is judged over them together).
+    bool clean() const { return counts.wrong == 0 && leaks == 0 && withinAmbiguousLimit(); }
 };
 
 struct RayCertification {
@@ -76,6 +87,9 @@ struct RayCertification {
     ClassCounts all;
     ClassCounts strict;  // the sets that are not adversarial, pooled: the ambiguous rate's base
     uint64_t leakChecked = 0, leaks = 0, unsealed = 0, leakUnverified = 0;
+    // The rays carried a baseline (RaySet::baseline) measured under other tolerances than the
+    // policy's: not applied, the adversarial sets held to the fixed share only.
+    bool baselineIgnored = false;
     std::vector<Finding> worst;     // over all sets, as ordered per set
     std::vector<Finding> examples;  // the first row of every class and reason that occurred
     // Per row (certify --verdicts): HitClass, AmbiguityReason bits, LeakState.
@@ -89,6 +103,8 @@ struct RayCertification {
 
     // The two verdicts (certify.h's header).
     Outcome correct(double maxAmbiguousRate) const;
+    // The sets whose ambiguous count is above their own bound, comma-separated ("" when none).
+    std::string setsOverAmbiguousLimit() const;
     Outcome watertight() const;
     // Both verdicts PASS (or watertightness not tested).
     bool passes(double maxAmbiguousRate) const {

@@ -22,6 +22,7 @@
 #include "core/io/npy.h"
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
+#include "validation/ambiguity_bound.h"
 
 namespace oct {
 namespace {
@@ -301,7 +302,9 @@ TEST_F(Robustness, RaysTooLargeForMemoryAreRefusedWithTheFigure) {
 
 // The rays are written from where they lie: the camera set of 2048x2048 (4.2 M rows, 134 MB)
 // is held once, not also as a join copy or behind an encoded .npy copy (each showed as another
-// 134 MB of peak memory).
+// 134 MB of peak memory). Besides the rows: the answers and verdicts of octrace's kernel on them
+// while its ambiguous counts are measured (validation/ambiguity_bound.h, at most
+// kBaselineBytesPerRow a row, some 35 measured), which a copy of the rows would still exceed.
 TEST_F(Robustness, RaysAreWrittenWithoutACopyOfThem) {
     auto peak = [&](const std::string& size) {
         RunResult r = run({"rays", kMeshes + "/teapot.obj", "--set", "camera", "--size", size,
@@ -311,9 +314,10 @@ TEST_F(Robustness, RaysAreWrittenWithoutACopyOfThem) {
     };
     const double base = peak("8x8");
     const double rows = 2048.0 * 2048.0 * 32.0;
+    const double baseline = 2048.0 * 2048.0 * double(kBaselineBytesPerRow);
     const double extra = peak("2048x2048") - base;
     EXPECT_GT(extra, 0.9 * rows);  // the measure sees the rows themselves
-    EXPECT_LT(extra, 1.4 * rows) << "a copy of the rays was held at once";
+    EXPECT_LT(extra, 1.4 * rows + baseline) << "a copy of the rays was held at once";
 }
 
 // `info quad.obj --max-depth 21 --max-prims 1` (two triangles sharing a diagonal) built cells

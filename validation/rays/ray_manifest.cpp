@@ -82,6 +82,50 @@ bool sameRows(const std::vector<float>& file, const RaySetRange& f, const RaySet
                                        size_t(8 * f.count) * sizeof(float)) == 0;
 }
 
+json baselineJson(const AmbiguityBaseline& b, const std::vector<RaySetRange>& sets) {
+    json bySet = json::object();
+    for (size_t i = 0; i < sets.size() && i < b.ambiguous.size(); ++i)
+        bySet[sets[i].name] = b.ambiguous[i];
+    return {{"tracer", b.tracer},
+            {"policy",
+             {{"t_tolerance", b.tTolerance},
+              {"edge_tolerance", b.edgeTolerance},
+              {"grazing_cos", b.grazingCos}}},
+            {"by_set", bySet}};
+}
+
+// A tolerance of the baseline's policy: a finite number in [0, 1], as certify's options.
+double tolerance(const json& p, const char* key, const std::string& path) {
+    const json& v = field(p, key, path);
+    const double d = v.is_number() ? v.get<double>() : NAN;
+    if (!(d >= 0.0 && d <= 1.0))
+        bad(path, std::string("expected_ambiguous policy '") + key + "' is not a number in [0, 1]");
+    return d;
+}
+
+// expected_ambiguous: a count for every set of `sets` (by name, none other), each at most the
+// set's rows.
+AmbiguityBaseline baselineFromJson(const json& j, const std::vector<RaySetRange>& sets,
+                                   const std::string& path) {
+    if (!j.is_object()) bad(path, "'expected_ambiguous' is not an object");
+    AmbiguityBaseline b;
+    b.tracer = text(j, "tracer", path);
+    const json& p = field(j, "policy", path);
+    b.tTolerance = tolerance(p, "t_tolerance", path);
+    b.edgeTolerance = tolerance(p, "edge_tolerance", path);
+    b.grazingCos = tolerance(p, "grazing_cos", path);
+    const json& bySet = field(j, "by_set", path);
+    if (!bySet.is_object() || bySet.size() != sets.size())
+        bad(path, "expected_ambiguous 'by_set' does not name each set once");
+    for (const RaySetRange& r : sets) {
+        if (!bySet.contains(r.name))
+            bad(path, "expected_ambiguous 'by_set' has no count for set '" + r.name + "'");
+        b.ambiguous.push_back(
+            countAtMost(bySet, r.name.c_str(), r.count, path, "expected_ambiguous 'by_set' "));
+    }
+    return b;
+}
+
 }  // namespace
 
 const char* octraceVersion() { return OCT_VERSION; }
@@ -114,6 +158,7 @@ RayManifest describeRaySet(const Scene& scene, const RaySetSpec& spec, const Ray
         m.camera = spec.camera;
         m.frame = rays.frame;
     }
+    m.baseline = rays.baseline;
     return m;
 }
 
@@ -148,6 +193,7 @@ json toJson(const RayManifest& m) {
         }
         j["camera"] = cam;
     }
+    if (m.baseline) j["expected_ambiguous"] = baselineJson(*m.baseline, m.sets);
     return j;
 }
 
@@ -192,6 +238,8 @@ RayManifest manifestFromJson(const json& j, const std::string& path) {
         o.light = optionalVec(c, "light", path);
         m.camera = o;
     }
+    if (j.contains("expected_ambiguous"))
+        m.baseline = baselineFromJson(j["expected_ambiguous"], m.sets, path);
     return m;
 }
 
@@ -297,6 +345,7 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
                       "): the rays were changed; write them again with octrace rays");
     checkSameScene(m, scene, raysPath);
     out.sets = m.sets;
+    out.baseline = m.baseline;
 
     // Rebuild the standard sets (all but shadow, which needs the reference's camera hits) and
     // compare: this proves the rows are the sets they claim to be, on this scene.

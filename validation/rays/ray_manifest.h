@@ -9,7 +9,11 @@
 //    "camera": {"width": 256, "height": 256, "fov": 45, "eye": null, "target": null, "up": null,
 //               "light": null,
 //               "frame": {"eye": [..], "forward": [..], "right": [..], "up": [..],
-//                         "light": [..], "shadow_bias": ..}}}
+//                         "light": [..], "shadow_bias": ..}},
+//    "expected_ambiguous": {"tracer": "octrace 0.1.0 linear (cpu)",
+//                           "policy": {"t_tolerance": 1e-05, "edge_tolerance": 2e-06,
+//                                      "grazing_cos": 0.001},
+//                           "by_set": {"camera": 0, ..., "tmin-tmax": 845}}}
 //
 // `camera` is present when there is a camera or shadow set: the options as given (null: the
 // default framing) and, for information, the frame they gave. `fnv1a64` is the 64-bit FNV-1a
@@ -17,7 +21,10 @@
 // of a point cloud (null for meshes). The scene's `fnv1a64` is sceneFingerprint: the hash of its
 // geometry as loaded (absent in manifests written before it). A manifest written by hand may
 // name sets of its own: those are ranges only; sets with a standard name are rebuilt and must
-// match byte for byte.
+// match byte for byte. `expected_ambiguous` (AmbiguityBaseline, ray_sets.h) is what octrace's
+// own kernel scored on the rows when they were made, under that policy: certify bounds each
+// set's ambiguous count by it. Absent in manifests written before it and in hand-written ones;
+// when present it names every set and no other.
 //
 // The same scene: rays are certified against the scene they were made for, and "the same" is
 // what the scene *is*, never how it was named (a relative path, another spelling, a symlink or
@@ -54,7 +61,8 @@ struct RayManifest {
     std::string checksum;  // hex64(fnv1a64(rays))
     std::vector<RaySetRange> sets;
     std::optional<CameraOptions> camera;
-    std::optional<FrameParams> frame;  // informative only
+    std::optional<FrameParams> frame;           // informative only
+    std::optional<AmbiguityBaseline> baseline;  // expected_ambiguous
 };
 
 // R.npy -> R.json; any other name gets ".json" appended.

@@ -41,6 +41,11 @@ struct RaySetDesc {
     void (*generate)(RaySetContext& c, RaySetRng& rng, uint64_t n, RaySet& out);
     // An occlusion query (shadow): any hit on the segment is right, not only the closest.
     bool anyHit = false;
+    // How much more often than octrace's kernel on the same rows another correct tracer may
+    // answer ambiguously (validation/ambiguity_bound.h): a quarter, or the double on grazing
+    // rays, where t is ill-conditioned by up to 1/|cos| and a float test less exact than
+    // octrace's differs from the reference more often (measured: docs/CERTIFY.md).
+    double ambiguousSlack = 0.25;
 };
 
 const std::vector<RaySetDesc>& standardRaySets();       // in `--set all` order
@@ -78,6 +83,19 @@ struct RayTarget {
 class DoubleTracer;  // validation/policy/double_tracer.h
 struct MeshTargets;  // below
 
+// What octrace's own kernel scored on a ray file's rows when they were made (`octrace rays`,
+// manifest field `expected_ambiguous`): per set, its count of ambiguous answers against the
+// reference, under the tolerances named. certify bounds each set's ambiguous count by it
+// (validation/certify.h, ambiguousLimit): a tracer that turns right answers into excused ones
+// (a hit at a range end dropped) shows as a count above it, set by set. Recorded when the rays
+// are made, by the build that made them, so that a faulty build certifying its own answers
+// cannot raise its own bound.
+struct AmbiguityBaseline {
+    std::string tracer;                                              // "octrace 0.1.0 linear (cpu)"
+    double tTolerance = 0.0, edgeTolerance = 0.0, grazingCos = 0.0;  // the policy it was judged by
+    std::vector<uint64_t> ambiguous;  // per set, in RaySet::sets order
+};
+
 struct RaySet {
     std::vector<float> rays;           // N x 8: ox oy oz dx dy dz tmin tmax
     std::vector<RaySetRange> sets;     // contiguous, in file order, covering every row
@@ -87,6 +105,8 @@ struct RaySet {
     std::vector<std::string> notes;
     // The mesh's targets when an edges or vertices set was made (shareable: RaySetSpec::mesh).
     std::shared_ptr<const MeshTargets> mesh;
+    // Made by octrace rays (makeStandardRays) or read from its manifest; absent otherwise.
+    std::optional<AmbiguityBaseline> baseline;
     uint64_t count() const { return rays.size() / 8; }
     Ray ray(uint64_t i) const {
         const float* r = &rays[8 * i];

@@ -6,6 +6,8 @@
 #include "backends/backend_list.h"
 #include "core/io/name_list.h"
 #include "core/system/resources.h"
+#include "validation/ambiguity_bound.h"
+#include "validation/policy/hit_check.h"
 
 namespace oct {
 
@@ -45,10 +47,31 @@ std::vector<const RaySetDesc*> chooseRaySets(const std::string& text, const Scen
     return out;
 }
 
-StandardRays makeStandardRays(const Scene& scene, const RaySetSpec& spec, const std::string& what,
+namespace {
+
+// The rows `spec` makes: each seeded set's share, a camera-made set's pixels.
+uint64_t rowCount(const RaySetSpec& spec) {
+    const uint64_t pixels =
+        uint64_t(std::max(spec.camera.width, 0)) * uint64_t(std::max(spec.camera.height, 0));
+    uint64_t rows = 0;
+    for (const RaySetDesc* k : spec.sets)
+        rows = saturatingAdd(rows, k->seeded ? seededShare(spec, *k) : pixels);
+    return rows;
+}
+
+}  // namespace
+
+StandardRays makeStandardRays(const Scene& scene, const RaySetSpec& given, const std::string& what,
                               const std::string& advice) {
     // Before a row is drawn: the sets' memory against the machine's (core/system/resources.h).
-    checkMemory(raySetPeakBytes(spec), what, advice);
+    checkMemory(
+        saturatingAdd(raySetPeakBytes(given), saturatingMul(rowCount(given), kBaselineBytesPerRow)),
+        what, advice);
+    // The default policy's classifier: its double truth seals the targets, and it judges
+    // octrace's own answers for the baseline.
+    const HitClassifier classifier(scene, ValidationPolicy{});
+    RaySetSpec spec = given;
+    if (!spec.truth) spec.truth = &classifier.truth();
     // The shadow set starts at the reference's camera hits: the backend list's reference.
     std::unique_ptr<SceneTracer> reference;
     const BuiltScene bare = bareScene(scene);
@@ -59,6 +82,9 @@ StandardRays makeStandardRays(const Scene& scene, const RaySetSpec& spec, const 
     if (reference) trace = [&reference](RayBatchView b) { reference->trace(b); };
     StandardRays out;
     out.rays = makeRaySet(scene, spec, trace);
+    // What octrace's kernel scores on these rows, for certify's per-set bound: measured here,
+    // by the build that makes the rays, never by the one that certifies (ambiguity_bound.h).
+    out.rays.baseline = measureAmbiguityBaseline(classifier, out.rays);
     out.manifest = describeRaySet(scene, spec, out.rays);
     return out;
 }

@@ -32,7 +32,8 @@ struct StandardRays {
 
 // Checks the sets' memory against the machine's (raySetPeakBytes; `what` names the request in
 // the message and `advice` says what to ask for instead, in the caller's spelling), then draws
-// the rows and describes them.
+// the rows, measures octrace's own kernel on them (RaySet::baseline: each set's expected
+// ambiguous count, measureAmbiguityBaseline) and describes them.
 StandardRays makeStandardRays(const Scene& scene, const RaySetSpec& spec, const std::string& what,
                               const std::string& advice);
 

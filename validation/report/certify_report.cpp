@@ -1,5 +1,6 @@
 // The per-ray check's report (validate and certify share it) and `octrace certify`'s report, in
 // the two forms with the same content: JSON (docs/CERTIFY.md lists the fields) and text.
+#include "validation/ambiguity_bound.h"
 #include "validation/report/report.h"
 #include "validation/report/report_util.h"
 
@@ -45,6 +46,29 @@ std::string joined(const std::vector<std::string>& v) {
     return s;
 }
 
+// Each set's own bound on ambiguous answers, where it has one: "name counted <= limit", or
+// "> limit FAIL".
+std::string boundsLine(const RayCertification& r) {
+    std::string list;
+    bool fromBaseline = false;
+    for (const SetCertification& k : r.sets) {
+        if (!k.ambiguousLimit) continue;
+        fromBaseline = fromBaseline || k.expectedAmbiguous.has_value();
+        list += fmt("%s%s %llu %s %llu%s", list.empty() ? "" : ", ", k.range.name.c_str(),
+                    (unsigned long long)k.ambiguousCounted, k.withinAmbiguousLimit() ? "<=" : ">",
+                    (unsigned long long)*k.ambiguousLimit, k.withinAmbiguousLimit() ? "" : " FAIL");
+    }
+    if (list.empty()) return "";
+    const std::string base =
+        fromBaseline ? fmt("octrace's kernel on these rows + %g %% (grazing 100 %%) + the rate "
+                           "of the rows",
+                           100.0 * kAmbiguousSlack)
+                     : fmt("no baseline%s: %g of an adversarial set's rows",
+                           r.baselineIgnored ? " that applies (other tolerances)" : "",
+                           kAdversarialAmbiguousShare);
+    return "  ambiguous per set, leaks not counted (bound: " + base + "): " + list + "\n";
+}
+
 json findingWithExpected(const Finding& f) {
     json fj = findingJson(f, false);
     fj["expected"] = hitJson(expected(f));
@@ -63,6 +87,7 @@ json toJson(const RayCertification& r, double maxRate) {
     j["correct"] = outcomeName(r.correct(maxRate));
     j["watertight"] = outcomeName(r.watertight());
     j["strict"] = toJson(r.strict);  // the pooled sets the ambiguous rate is judged on
+    j["baseline_ignored"] = r.baselineIgnored;
     json bySet = json::object(), order = json::array();
     for (const SetCertification& s : r.sets) {
         json k = toJson(s.counts);
@@ -75,6 +100,10 @@ json toJson(const RayCertification& r, double maxRate) {
         k["leaks"] = s.leaks;
         k["unsealed"] = s.unsealed;
         k["leak_unverified"] = s.leakUnverified;
+        // The set's own bound (validation/ambiguity_bound.h); null: none of its own.
+        k["ambiguous_counted"] = s.ambiguousCounted;
+        k["expected_ambiguous"] = s.expectedAmbiguous ? json(*s.expectedAmbiguous) : json(nullptr);
+        k["ambiguous_limit"] = s.ambiguousLimit ? json(*s.ambiguousLimit) : json(nullptr);
         json w = json::array(), l = json::array();
         for (const Finding& f : s.worst) w.push_back(findingWithExpected(f));
         for (const LeakFinding& f : s.leakList) l.push_back(leakJson(f));
@@ -127,8 +156,10 @@ std::string humanRaySets(const RayCertification& r, double maxRate) {
              anyAdversarial ? " non-adversarial" : "", r.strict.ambiguousRate(),
              (unsigned long long)r.strict.ambiguous, (unsigned long long)r.strict.compared, maxRate,
              r.strict.ambiguousRate() <= maxRate ? "pass" : "FAIL");
+    s += boundsLine(r);
     if (anyAdversarial)
-        s += "  * adversarial set: built of touchy rays, ambiguous answers expected there\n";
+        s += "  * adversarial set: built of touchy rays, ambiguous answers expected there, up to "
+             "the set's bound\n";
     for (const SetCertification& k : r.sets) {
         std::string reasons = reasonsText(k.counts);
         if (!reasons.empty()) s += "  " + k.range.name + " by reason:" + reasons + "\n";
@@ -177,12 +208,18 @@ std::string verdictLines(const CertifyReport& r) {
     const Outcome watertight = r.result.watertight();
     std::string s;
     s += fmt("correct     %-10s", outcomeName(correct));
+    const std::string over = r.result.setsOverAmbiguousLimit();
     if (correct == Outcome::Fail)
         s +=
-            fmt(" %llu closest-hit or any-hit answers wrong, ambiguous rate %.3g (limit %.3g): the "
-                "rows above say which and why",
+            fmt(" %llu closest-hit or any-hit answers wrong, ambiguous rate %.3g (limit %.3g)%s: "
+                "the rows above say which and why",
                 (unsigned long long)r.result.all.wrong, r.result.strict.ambiguousRate(),
-                r.policy.maxAmbiguousRate);
+                r.policy.maxAmbiguousRate,
+                over.empty() ? ""
+                             : (", more ambiguous answers than the set's bound in " + over +
+                                " (right answers turned into excused ones: a range end, an "
+                                "edge or a grazing hit decided otherwise than it should be)")
+                                   .c_str());
     else if (correct == Outcome::Incomplete)
         s += fmt(" %llu answers unverified past --max-rechecks: raise it or drop it to judge them",
                  (unsigned long long)r.result.all.unverified);
