@@ -45,8 +45,13 @@ std::string verdictLine(const CertifyReport& r) {
                   r.policy.maxAmbiguousRate);
     const std::string overSets = r.result.setsOverAmbiguousLimit();
     const Outcome o = r.outcome();
+    const std::string camera =
+        r.cameraRowsOff() ? std::to_string(r.cameraRows->failures) +
+                                " camera rows off the pinhole camera's definition (the rays are "
+                                "not what they claim); "
+                          : "";
     return std::string("certification ") + outcomeName(o) + " (--require " +
-           requireName(r.require) + "): correct " +
+           requireName(r.require) + "): " + camera + "correct " +
            outcomeName(r.result.correct(r.policy.maxAmbiguousRate)) + ", " +
            std::to_string(r.result.all.wrong) + " wrong" +
            (wrongSets.empty() ? "" : " (in " + wrongSets + ")") + ", ambiguous rate " + rate +

@@ -464,6 +464,7 @@ const char* requireName(Require r) {
 }
 
 Outcome CertifyReport::outcome() const {
+    if (cameraRowsOff()) return Outcome::Fail;
     const Outcome c = result.correct(policy.maxAmbiguousRate), w = result.watertight();
     switch (require) {
         case Require::Correct:
@@ -522,6 +523,7 @@ CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
         return h;
     };
     rep.result = certifyRays(classifier, rays, ours, ref, options, next);
+    rep.cameraRows = rays.cameraRows;
     rep.checkSeconds = since(t0);
     rep.seconds = since(start);
     return rep;

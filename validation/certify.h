@@ -150,8 +150,13 @@ struct CertifyReport : JudgedScene {
     // The standard sets the scene could take that the ray file does not give: a PASS without
     // them is partial (the report says so).
     std::vector<std::string> missingSets;
+    // The camera set's rows against the camera's definition (RaySet::cameraRows): off, the ray
+    // file is not what it claims, whatever the answers, and the outcome is FAIL.
+    std::optional<RayDefinitionReport> cameraRows;
+    bool cameraRowsOff() const { return cameraRows && !cameraRows->passes(); }
 
-    // The required verdicts combined: FAIL over INCOMPLETE over PASS. A required watertight
+    // The required verdicts combined: FAIL over INCOMPLETE over PASS; FAIL too when the camera
+    // rows are off their definition. A required watertight
     // verdict that could not be tested (no target rays) is INCOMPLETE; under `all` it is left
     // out (the report says which standard sets were not given).
     Outcome outcome() const;

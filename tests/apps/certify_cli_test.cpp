@@ -98,6 +98,11 @@ TEST_F(CertifyCli, OwnTraceOfEveryLayoutPasses) {
             EXPECT_EQ(j["leaks"], 0);
             EXPECT_TRUE(j["manifest"].get<bool>());
             EXPECT_EQ(j["result"]["sets"].size(), 9u);
+            // The camera set's rows against the camera's definition, every pixel.
+            EXPECT_TRUE(j["camera_rows"]["pass"].get<bool>()) << j["camera_rows"].dump();
+            EXPECT_EQ(j["camera_rows"]["compared"],
+                      manifest["camera"]["width"].get<uint64_t>() *
+                          manifest["camera"]["height"].get<uint64_t>());
             EXPECT_NE(r.err.find("PASS"), std::string::npos) << "the summary goes to stderr";
         }
     }

@@ -283,4 +283,22 @@ TEST(Certify, CameraSetGivesTheDiffImage) {
 }
 
 }  // namespace
+// Camera rows off their definition (RaySet::cameraRows: a faulty camera made the file and
+// rebuilds the same rows) fail the outcome whatever the answers and the --require.
+TEST(Certify, CameraRowsOffTheirDefinitionFailWhateverIsRequired) {
+    CertifyReport r;
+    r.result.all.compared = 10;  // a correct, watertight-untested result
+    for (Require q : {Require::Correct, Require::All}) {
+        r.require = q;
+        r.cameraRows.reset();
+        EXPECT_NE(r.outcome(), Outcome::Fail);
+        r.cameraRows = RayDefinitionReport{};
+        r.cameraRows->judge(0.5, [] { return std::string(); });
+        EXPECT_NE(r.outcome(), Outcome::Fail);
+        r.cameraRows->judge(3.0, [] { return std::string("camera row 1 (pixel 1,0): off"); });
+        EXPECT_EQ(r.outcome(), Outcome::Fail);
+        EXPECT_TRUE(r.cameraRowsOff());
+    }
+}
+
 }  // namespace oct

@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include "core/render/camera.h"
+#include "core/scene/load_scene.h"
 #include "tests/validation/fixtures.h"
 #include "validation/policy/ray_definitions.h"
 
@@ -154,6 +156,62 @@ TEST(KernelRays, HoldToTheirDefinitionsOnEveryCommittedMeshAndACloud) {
         expectKernelRaysPass(loadScene(meshPath(name)), 0.5);
     expectKernelRaysPass(makeGridCloud(2000, 3), 0.5);
 }
+
+// certify's camera set (checkCameraRows): rows the camera made hold to the definition; rows of
+// the camera's classic slips (the height divided by the width, a pixel's corner for its centre,
+// the image transposed) and a count that is not width x height do not, named by row and pixel.
+namespace camera_rows {
+
+std::vector<float> rowsOf(const FrameParams& f, int width, int height, float dx, bool transpose) {
+    std::vector<float> rows;
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            Camera c = f.camera;
+            const int px = transpose ? y : x, py = transpose ? x : y;
+            const float sx = 2.0f * (float(px) + 0.5f + dx) / float(width) - 1.0f;
+            const float sy = 1.0f - 2.0f * (float(py) + 0.5f) / float(height);
+            const Vec3 d = normalize(c.forward + c.right * sx + c.up * sy);
+            const Ray r = dx == 0.0f && !transpose ? primaryRay(c, x, y, width, height)
+                                                   : Ray{c.eye, d, 0.0f, INFINITY};
+            rows.insert(rows.end(),
+                        {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.tmin, r.tmax});
+        }
+    return rows;
+}
+
+TEST(CameraRows, TheCamerasRowsHoldAndItsSlipsAreNamed) {
+    const Scene scene = loadScene(meshPath("teapot.obj"));
+    CameraOptions o;
+    o.width = 37;
+    o.height = 23;
+    const FrameParams f = makeFrame(scene.bounds(), o);
+    const std::vector<float> good = rowsOf(f, o.width, o.height, 0.0f, false);
+    RayDefinitionReport r = checkCameraRows(scene.bounds(), o, good.data(), good.size() / 8);
+    EXPECT_TRUE(r.passes()) << (r.errors.empty() ? "" : r.errors[0]);
+    EXPECT_EQ(r.compared, uint64_t(o.width * o.height));
+    EXPECT_LT(r.worstRatio, 0.5);  // a margin, measured: well inside the tolerance
+    // The pixel's corner (half a pixel off in x): every row off.
+    std::vector<float> corner = rowsOf(f, o.width, o.height, -0.5f, false);
+    r = checkCameraRows(scene.bounds(), o, corner.data(), corner.size() / 8);
+    EXPECT_EQ(r.failures, r.compared);
+    ASSERT_FALSE(r.errors.empty());
+    EXPECT_NE(r.errors[0].find("pixel 0,0"), std::string::npos) << r.errors[0];
+    // A frame of the wrong shape rowed as this one (the transposed image, 23 x 37 read as 37 x
+    // 23): most rows off.
+    std::vector<float> transposed = rowsOf(f, o.width, o.height, 0.0f, true);
+    r = checkCameraRows(scene.bounds(), o, transposed.data(), transposed.size() / 8);
+    EXPECT_GT(r.failures, r.compared / 2);
+    // One row's origin moved by one float step: that row alone.
+    std::vector<float> moved = good;
+    moved[8 * 5] = std::nextafter(moved[8 * 5], INFINITY);
+    r = checkCameraRows(scene.bounds(), o, moved.data(), moved.size() / 8);
+    EXPECT_EQ(r.failures, 1u);
+    // Rows for another size are off as a whole.
+    r = checkCameraRows(scene.bounds(), o, good.data(), good.size() / 8 - 1);
+    EXPECT_FALSE(r.passes());
+}
+
+}  // namespace camera_rows
 
 }  // namespace
 }  // namespace oct

@@ -24,15 +24,11 @@ namespace {
 using report_detail::fmt;
 using report_detail::num;
 
-constexpr double u = kFloatUnitRoundoff;
-
 struct ProbedFrame {
     std::string name;
     FrameParams params;  // the kernel's frame (makeFrame)
     CameraOptions options;
 };
-
-bool same(Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 double maxAbs(DVec3 v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
 
@@ -76,26 +72,16 @@ std::string rayText(const DoubleRay& r) {
 
 // Every pixel's primary ray against the definition; returns the rays' tags for the placement.
 std::vector<float> checkRays(const Scene& scene, const ProbedFrame& f, RayDefinitionReport& rep) {
-    const ReferenceFrame def = referenceFrame(scene.bounds(), f.options);
-    // The eye: rounded by the float arithmetic of the default framing, u times its magnitude.
+    const PrimaryRayJudge judge(scene.bounds(), f.options, f.params.camera.eye);
+    const ReferenceFrame& def = judge.def;
     const DVec3 eye = toDouble(f.params.camera.eye);
-    const double eyeTol = 16.0 * u * def.scale;
-    rep.judge(maxAbs(eye - def.eye) / eyeTol, [&] {
+    rep.judge(judge.eyeRatio, [&] {
         return fmt(
             "camera: %s %dx%d: the eye %.9g,%.9g,%.9g is %.3g from the definition's "
             "%.9g,%.9g,%.9g (tolerance %.3g)",
             f.name.c_str(), def.width, def.height, eye.x, eye.y, eye.z, maxAbs(eye - def.eye),
-            def.eye.x, def.eye.y, def.eye.z, eyeTol);
+            def.eye.x, def.eye.y, def.eye.z, judge.eyeTolerance);
     });
-    // The directions from the kernel's own (rounded) eye, which the eye's check holds to the
-    // definition: each is the definition's to a few rounding errors of the basis and the sum,
-    // plus the turn that the rounding of a default target (the box's centre) gives the view.
-    CameraOptions fromEye = f.options;
-    fromEye.eye = f.params.camera.eye;
-    const ReferenceFrame seen = referenceFrame(scene.bounds(), fromEye);
-    const double viewDistance = length(seen.target - seen.eye);
-    const double dirTol = 16.0 * u + 4.0 * def.targetError / viewDistance;
-    const double unitTol = 8.0 * u;
     const PrimitivesView prims = primitivesView(scene);
     std::vector<float> tags(size_t(f.params.width) * size_t(f.params.height));
     ProbeLog log;
@@ -107,20 +93,16 @@ std::vector<float> checkRays(const Scene& scene, const ProbedFrame& f, RayDefini
             tracePixel(x, y, f.params, probe, prims, none, none);
             const Ray& k = log.closest;  // the ray the kernel traced for the pixel
             tags[size_t(y) * size_t(f.params.width) + size_t(x)] = rayTag(k);
-            const DoubleRay d = referencePrimaryRay(seen, x, y);
-            const DVec3 kd = toDouble(k.dir);
-            // One query, from the frame's eye exactly, over [0, +inf).
-            double ratio =
-                log.closestCalls == 1 && same(k.org, f.params.camera.eye) ? 0.0 : INFINITY;
-            ratio = std::max(ratio, angleBetween(kd, d.dir) / dirTol);
-            ratio = std::max(ratio, unitError(kd) / unitTol);
-            if (!(k.tmin == 0.0f && k.tmax == INFINITY)) ratio = INFINITY;
+            // One query, from the frame's eye exactly, over [0, +inf), along the definition.
+            const double ratio = log.closestCalls == 1 ? judge.rayRatio(k, x, y) : INFINITY;
             rep.judge(ratio, [&] {
+                const DoubleRay d = referencePrimaryRay(judge.seen, x, y);
+                const DVec3 kd = toDouble(k.dir);
                 return fmt(
                     "camera: %s %dx%d pixel %d,%d: traced %s, %.3g rad from the "
                     "definition's %s (tolerance %.3g)",
                     f.name.c_str(), def.width, def.height, x, y, rayText(k).c_str(),
-                    angleBetween(kd, d.dir), rayText(d).c_str(), dirTol);
+                    angleBetween(kd, d.dir), rayText(d).c_str(), judge.dirTolerance);
             });
         }
     return tags;

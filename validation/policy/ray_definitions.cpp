@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace oct {
 namespace {
@@ -119,6 +120,72 @@ double angleBetween(DVec3 a, DVec3 b) {
     // The sine is the angle to within a relative angle^2 / 6 (tolerances are a few 1e-6 rad);
     // beyond a right angle, anything above pi / 2 will do for a check.
     return dot(a, b) > 0.0 ? std::sqrt(sin2) : 2.0;
+}
+
+namespace {
+
+double maxAbsOf(DVec3 v) { return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)}); }
+
+CameraOptions fromEye(CameraOptions o, Vec3 eye) {
+    o.eye = eye;
+    return o;
+}
+
+}  // namespace
+
+PrimaryRayJudge::PrimaryRayJudge(const Aabb& b, const CameraOptions& o, Vec3 e)
+    : def(referenceFrame(b, o)), seen(referenceFrame(b, fromEye(o, e))), eye(e) {
+    constexpr double u = kFloatUnitRoundoff;
+    // The eye: rounded by the float arithmetic of the default framing, u times its magnitude.
+    eyeTolerance = 16.0 * u * def.scale;
+    eyeRatio = maxAbsOf(toDouble(e) - def.eye) / eyeTolerance;
+    // Each direction is the definition's to a few rounding errors of the basis and the sum,
+    // plus the turn that the rounding of a default target (the box's centre) gives the view.
+    dirTolerance = 16.0 * u + 4.0 * def.targetError / length(seen.target - seen.eye);
+    unitTolerance = 8.0 * u;
+}
+
+double PrimaryRayJudge::rayRatio(const Ray& k, int x, int y) const {
+    const bool sameEye = k.org.x == eye.x && k.org.y == eye.y && k.org.z == eye.z;
+    if (!sameEye || !(k.tmin == 0.0f && k.tmax == INFINITY)) return INFINITY;
+    const DVec3 kd = toDouble(k.dir);
+    const DoubleRay d = referencePrimaryRay(seen, x, y);
+    return std::max(angleBetween(kd, d.dir) / dirTolerance, unitError(kd) / unitTolerance);
+}
+
+RayDefinitionReport checkCameraRows(const Aabb& b, const CameraOptions& o, const float* rows,
+                                    uint64_t count) {
+    RayDefinitionReport rep;
+    const uint64_t pixels = uint64_t(o.width) * uint64_t(o.height);
+    rep.scope = std::to_string(count) + " camera rows of a " + std::to_string(o.width) + "x" +
+                std::to_string(o.height) + " frame";
+    if (count != pixels) {
+        rep.judge(INFINITY, [&] {
+            return "the camera set has " + std::to_string(count) + " rows for " +
+                   std::to_string(pixels) + " pixels";
+        });
+        return rep;
+    }
+    if (count == 0) return rep;
+    const PrimaryRayJudge judge(b, o, {rows[0], rows[1], rows[2]});
+    for (uint64_t i = 0; i < count; ++i) {
+        const float* r = rows + 8 * i;
+        const Ray k{{r[0], r[1], r[2]}, {r[3], r[4], r[5]}, r[6], r[7]};
+        const int x = int(i % uint64_t(o.width)), y = int(i / uint64_t(o.width));
+        rep.judge(judge.ratio(k, x, y), [&] {
+            const DoubleRay d = referencePrimaryRay(judge.seen, x, y);
+            char line[400];
+            std::snprintf(line, sizeof line,
+                          "camera row %llu (pixel %d,%d): org %.9g,%.9g,%.9g dir %.9g,%.9g,%.9g "
+                          "[%g, %g], the definition's dir %.9g,%.9g,%.9g from the eye "
+                          "%.9g,%.9g,%.9g",
+                          (unsigned long long)i, x, y, r[0], r[1], r[2], r[3], r[4], r[5], r[6],
+                          r[7], d.dir.x, d.dir.y, d.dir.z, judge.def.eye.x, judge.def.eye.y,
+                          judge.def.eye.z);
+            return std::string(line);
+        });
+    }
+    return rep;
 }
 
 }  // namespace oct

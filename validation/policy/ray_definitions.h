@@ -7,6 +7,7 @@
 // rays with these instead.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -109,6 +110,29 @@ struct RayDefinitionReport {
     }
     static constexpr size_t kMaxErrors = 16;
 };
+
+// A float primary ray of pixel (x, y) against the definition: its error over the tolerance (> 1:
+// off), the largest of the eye's, the direction's angle and its unit length; +inf when the ray
+// does not start at `eye` exactly or is not over [0, +inf). `def` is the frame by its options,
+// `seen` the same frame from the float eye the rays start at (so that the direction is judged
+// apart from the eye's rounding, which the eye's own term holds): validate's camera check and
+// certify's camera set judge each ray with it.
+struct PrimaryRayJudge {
+    PrimaryRayJudge(const Aabb& sceneBounds, const CameraOptions& options, Vec3 eye);
+    // The ray alone (the eye is judged once, by eyeRatio), and the ray with its eye.
+    double rayRatio(const Ray& k, int x, int y) const;
+    double ratio(const Ray& k, int x, int y) const { return std::max(eyeRatio, rayRatio(k, x, y)); }
+    ReferenceFrame def, seen;
+    Vec3 eye;
+    double eyeTolerance = 0.0, dirTolerance = 0.0, unitTolerance = 0.0;
+    double eyeRatio = 0.0;  // the eye's error / its tolerance (part of every ray's ratio)
+};
+
+// The rows of a camera set (ox oy oz dx dy dz tmin tmax, row i = pixel (i % width, i / width))
+// against the definition of the frame of `options`: what octrace rays wrote for the camera set
+// must be the pinhole camera, whatever code made it (certify reads these rows as given).
+RayDefinitionReport checkCameraRows(const Aabb& sceneBounds, const CameraOptions& options,
+                                    const float* rows, uint64_t count);
 
 // The angle between two directions in radians, as its sine (exact to first order for the small
 // angles the checks judge); 2 for an angle beyond a right one.

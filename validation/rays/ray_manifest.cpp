@@ -394,6 +394,9 @@ RaySet raySetFromFile(const Scene& scene, std::vector<float> rays,
                           "': the file was edited, another version of octrace wrote "
                           "it, or it was made for another scene; write the rays "
                           "again with octrace rays");
+        if (f.name == "camera")
+            out.cameraRows =
+                checkCameraRows(scene.bounds(), spec.camera, &out.rays[8 * f.begin], f.count);
         for (RayTarget t : rebuilt.targets)
             if (t.row >= r->begin && t.row < r->begin + r->count) {
                 t.row = t.row - r->begin + f.begin;

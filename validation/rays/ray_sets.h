@@ -18,6 +18,7 @@
 #include "core/render/kernel.h"
 #include "core/scene/mesh_topology.h"
 #include "core/scene/scene.h"
+#include "validation/policy/ray_definitions.h"
 
 namespace oct {
 
@@ -107,6 +108,10 @@ struct RaySet {
     std::shared_ptr<const MeshTargets> mesh;
     // Made by octrace rays (makeStandardRays) or read from its manifest; absent otherwise.
     std::optional<AmbiguityBaseline> baseline;
+    // Read from a file with a camera set (raySetFromFile): its rows against the pinhole camera's
+    // definition in double (policy/ray_definitions.h), which shares no code with the camera that
+    // made them; a fault there makes and rebuilds the same rows, so only this sees it.
+    std::optional<RayDefinitionReport> cameraRows;
     uint64_t count() const { return rays.size() / 8; }
     Ray ray(uint64_t i) const {
         const float* r = &rays[8 * i];

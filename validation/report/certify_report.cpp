@@ -248,6 +248,16 @@ std::string verdictLines(const CertifyReport& r) {
 
 namespace {
 
+json cameraRowsJson(const std::optional<RayDefinitionReport>& c) {
+    if (!c) return nullptr;
+    return {{"pass", c->passes()},
+            {"scope", c->scope},
+            {"compared", c->compared},
+            {"failures", c->failures},
+            {"worst_ratio", report_detail::num(c->worstRatio)},
+            {"errors", c->errors}};
+}
+
 json certifyReportBody(const CertifyReport& r) {
     json topo = nullptr;
     if (r.topology)
@@ -268,6 +278,7 @@ json certifyReportBody(const CertifyReport& r) {
             {"unverified", r.result.all.unverified + r.result.leakUnverified},
             {"leaks", r.result.leaks},
             {"missing_standard_sets", r.missingSets},
+            {"camera_rows", cameraRowsJson(r.cameraRows)},
             {"scene", scene},
             {"rays", r.rays},
             {"hits", r.hits},
@@ -308,6 +319,19 @@ std::string humanSummary(const CertifyReport& r) {
              "fans only, where the target is sealed whatever the rest of the mesh is\n";
     for (const std::string& n : r.notes) s += "note     " + n + "\n";
     s += humanRaySets(r.result, r.policy.maxAmbiguousRate);
+    if (r.cameraRows) {
+        const RayDefinitionReport& c = *r.cameraRows;
+        s += fmt("camera   %s against the pinhole camera's definition (double): %s",
+                 c.scope.c_str(), c.passes() ? "PASS" : "FAIL");
+        if (!c.passes())
+            s +=
+                fmt(", %llu rows off (worst %.3g x the tolerance): the rays are not the camera "
+                    "set they claim; the build that made them has a faulty camera\n",
+                    (unsigned long long)c.failures, c.worstRatio);
+        else
+            s += "\n";
+        for (const std::string& e : c.errors) s += "  " + e + "\n";
+    }
     s += "\n" + verdictLines(r);
     const std::vector<std::string>& missing = r.missingSets;
     s +=
