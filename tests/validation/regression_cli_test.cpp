@@ -126,6 +126,10 @@ TEST_F(RegressionCli, ASceneIsAddedWithItsLayoutsViewsAndSizeAndThenPasses) {
     r = run({"validate", "--regression", manifest, "--layouts", "hash"});
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_TRUE(octtest::isOneLineError(r));
+    r = run({"validate", "--regression", manifest, "--regression-add",
+             OCT_SOURCE_DIR "/meshes/teapot.obj"});
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("relative to the repository root"), std::string::npos) << r.err;
     r = run({"validate", "--regression", manifest, "--update", "--backend", "cpu"});
     EXPECT_EQ(r.status, 2) << r.err;
     EXPECT_NE(r.err.find("host backend"), std::string::npos) << r.err;

@@ -212,10 +212,16 @@ std::vector<RegressionFrame> rewriteScene(const SceneRun& run, GoldenReport& gol
 // A new scene's entry: refused when listed already or when its settings name what does not
 // exist; the scene is appended with no frames (rewriteScene fills them).
 void appendScene(RegressionManifest& m, const RegressionAddition& add) {
+    if (std::filesystem::path(add.scene).is_absolute())
+        throw std::runtime_error("--regression-add " + add.scene +
+                                 ": give the scene relative to the repository root, where "
+                                 "validate --regression runs (the manifest is committed and "
+                                 "read on other machines)");
     const std::string name = regressionEntryName(add.scene, add.name);
     if (!isPlainName(name))
-        throw std::runtime_error("--regression-name '" + name +
-                                 "': letters, digits, '.', '-' and '_' only");
+        throw std::runtime_error("--regression-add " + add.scene + ": the entry's name '" + name +
+                                 "' names its images, so it takes letters, digits, '.', '-', "
+                                 "'_' and '+' only; give one with --regression-name");
     if (m.find(name))
         throw std::runtime_error("--regression-add " + add.scene + ": " + m.path + " lists " +
                                  name +
