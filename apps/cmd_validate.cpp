@@ -48,6 +48,7 @@ struct ValidateCliOptions {
     std::string regressionAdd;   // a scene to add to it
     std::string regressionName;  // its entry's name
     std::string addLayouts, addViews;
+    double addScale = 0.0;  // 0: not given
     bool update = false;
     // What was given explicitly (--regression-add records only those as the scene's own).
     bool backendGiven = false, sizeGiven = false, maxDepthGiven = false, maxPrimsGiven = false,
@@ -124,6 +125,7 @@ RegressionAddition regressionAddition(const ValidateCliOptions& o) {
     if (o.maxDepthGiven) a.settings.maxDepth = o.scene.maxDepth;
     if (o.maxPrimsGiven) a.settings.maxPrims = o.scene.maxPrims;
     if (o.radiusGiven) a.settings.radius = o.scene.radius;
+    if (o.addScale != 0.0) a.settings.scale = o.addScale;
     if (!o.addLayouts.empty()) {
         std::vector<std::string> names;
         for (const LayoutDesc* l : parseLayoutList(o.addLayouts)) names.push_back(l->name);
@@ -158,9 +160,11 @@ RegressionMode regressionMode(const ValidateCliOptions& o) {
                                      o.scene.path + "'");
         return RegressionMode::Add;
     }
-    if (!o.addLayouts.empty() || !o.addViews.empty() || !o.regressionName.empty())
+    if (!o.addLayouts.empty() || !o.addViews.empty() || !o.regressionName.empty() ||
+        o.addScale != 0.0)
         throw std::runtime_error(
-            "--layouts, --views and --regression-name set what --regression-add records");
+            "--layouts, --views, --scale and --regression-name set what --regression-add "
+            "records");
     return o.update ? RegressionMode::Update : RegressionMode::Check;
 }
 
@@ -339,6 +343,10 @@ void registerValidate(CLI::App& app) {
                     "configurations (its images are named after it; default the file name)");
     cmd->add_option("--layouts", o->addLayouts,
                     "With --regression-add: the layouts the scene is held to (default all)");
+    cmd->add_option("--scale", o->addScale,
+                    "With --regression-add: every vertex times this (a mesh at a tiny or huge "
+                    "absolute scale; 1e-6 to 1e6)")
+        ->check(numberIn(1e-6, 1e6, "the regression set's scales"));
     cmd->add_option("--views", o->addViews,
                     "With --regression-add: the views, comma-separated: default, +x, -x, +y, "
                     "-y, -z, inside (default: the file's)");

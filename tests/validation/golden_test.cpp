@@ -44,11 +44,13 @@ TEST(Golden, CommittedFramesMatchEveryLayoutAndEmbree) {
     std::set<std::string> scenes, views;
     std::set<std::pair<int, int>> sizes;
     std::set<int> depths;
+    std::set<double> scales;
     for (const GoldenRow& row : r.rows) {
         scenes.insert(row.scene);
         views.insert(row.view);
         sizes.insert({row.render.width, row.render.height});
         depths.insert(row.render.build.maxDepth);
+        scales.insert(row.render.scale);
         // Same build flags, same bits: the CPU kernel reproduces its own goldens exactly
         // (docs/VALIDATION.md, "Golden images"), which is its rule in the committed manifest.
         if (row.tracer != "embree") {
@@ -59,7 +61,8 @@ TEST(Golden, CommittedFramesMatchEveryLayoutAndEmbree) {
         }
     }
     // Every committed mesh and a generated cloud are pinned, from more than one side, at a
-    // size that is not square, as a single leaf and as a tree deeper than 10 levels.
+    // size that is not square, as a single leaf, as a tree deeper than 10 levels, and at a
+    // thousandth and a thousand times a mesh's size.
     for (const std::string& mesh : octtest::committedMeshes())
         EXPECT_TRUE(scenes.count("meshes/" + mesh)) << mesh << " has no golden image";
     EXPECT_TRUE(std::any_of(scenes.begin(), scenes.end(),
@@ -71,6 +74,7 @@ TEST(Golden, CommittedFramesMatchEveryLayoutAndEmbree) {
     EXPECT_TRUE(std::any_of(sizes.begin(), sizes.end(),
                             [](const std::pair<int, int>& s) { return s.first < s.second; }));
     EXPECT_TRUE(depths.count(0));
+    EXPECT_TRUE(*scales.begin() <= 1e-3 && *scales.rbegin() >= 1e3);  // an epsilon in world units
     EXPECT_TRUE(*depths.rbegin() > 10);
 }
 

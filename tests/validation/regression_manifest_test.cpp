@@ -70,6 +70,7 @@ TEST(RegressionManifest, MalformedOrLooseningFilesAreRefusedNamingTheField) {
     expectRefused(refusal([](json& m) { m["scenes"][0]["frames"][0]["image"] = "../x.png"; }),
                   "plain file name");
     expectRefused(refusal([](json& m) { m["scenes"][0]["max_depth"] = 99; }), "max_depth");
+    expectRefused(refusal([](json& m) { m["scenes"][0]["scale"] = 0.0; }), "scale");
     expectRefused(refusal([](json& m) { m["defaults"].erase("views"); }), "'defaults'");
     expectRefused(refusal([](json& m) { m["scenes"] = json::array(); }), "--regression-add");
 }
@@ -121,6 +122,24 @@ TEST(RegressionManifest, AddFillsEveryDerivedFieldWithTheSettingsGiven) {
     oct::runRegression(path, RegressionMode::Add, kRoot, {}, &add);
     EXPECT_TRUE(fs::exists(dir.path() / "teapot-single-leaf.png"));
     EXPECT_EQ(readJson(path)["scenes"][2]["max_depth"], 0);
+}
+
+TEST(RegressionManifest, AScaledEntryIsTheMeshTimesItsScaleAndACloudIsRefused) {
+    oct::RegressionRender render;
+    render.scale = 1e-3;
+    const oct::Scene small =
+        oct::loadRegressionScene("meshes/teapot.obj", kRoot, render, "regression.json");
+    const oct::Scene teapot = oct::loadScene(OCT_SOURCE_DIR "/meshes/teapot.obj");
+    ASSERT_EQ(small.triangles.size(), teapot.triangles.size());
+    EXPECT_NEAR(oct::sceneExtent(small), 1e-3 * oct::sceneExtent(teapot),
+                1e-6 * oct::sceneExtent(teapot));
+    EXPECT_FLOAT_EQ(small.triangles[7].v1.y, float(double(teapot.triangles[7].v1.y) * 1e-3));
+    try {
+        oct::loadRegressionScene("grid:100", kRoot, render, "regression.json");
+        FAIL() << "a scaled cloud was accepted";
+    } catch (const oct::IoError& e) {
+        EXPECT_NE(std::string(e.what()).find("point cloud"), std::string::npos) << e.what();
+    }
 }
 
 TEST(RegressionManifest, AnEntryWithoutFramesFailsAsMissing) {

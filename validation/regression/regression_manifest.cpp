@@ -90,6 +90,9 @@ SceneSettings readSettings(const json& j, const std::string& path, const std::st
     s.maxDepth = optionalField<int>(j, "max_depth", path);
     s.maxPrims = optionalField<uint32_t>(j, "max_prims", path);
     s.radius = optionalField<float>(j, "radius", path);
+    s.scale = optionalField<double>(j, "scale", path);
+    if (s.scale && !(*s.scale >= 1e-6 && *s.scale <= 1e6))
+        refuse(path, where + ": scale must lie in 1e-6..1e6");
     s.layouts = readLayouts(j, path, where);
     s.views = readViews(j, path, where);
     if ((s.width && (*s.width < 1 || *s.width > 4096)) ||
@@ -108,6 +111,7 @@ void writeSettings(const SceneSettings& s, json& j) {
     if (s.maxDepth) j["max_depth"] = *s.maxDepth;
     if (s.maxPrims) j["max_prims"] = *s.maxPrims;
     if (s.radius) j["radius"] = *s.radius;
+    if (s.scale) j["scale"] = *s.scale;
     if (s.layouts) j["layouts"] = s.layouts->empty() ? json("all") : json(*s.layouts);
     if (s.views) j["views"] = *s.views;
 }
@@ -198,6 +202,7 @@ RegressionRender RegressionManifest::render(const RegressionScene& s) const {
     r.build.maxDepth = s.own.maxDepth.value_or(*defaults.maxDepth);
     r.build.maxPrims = s.own.maxPrims.value_or(*defaults.maxPrims);
     r.radius = s.own.radius.value_or(*defaults.radius);
+    r.scale = s.own.scale.value_or(defaults.scale.value_or(1.0));
     return r;
 }
 

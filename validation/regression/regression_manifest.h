@@ -63,6 +63,7 @@ struct SceneSettings {
     std::optional<int> width, height, maxDepth;
     std::optional<uint32_t> maxPrims;
     std::optional<float> radius;
+    std::optional<double> scale;  // every vertex times this (triangle meshes; default 1)
     std::optional<std::vector<std::string>> layouts;  // names; absent: every layout
     std::optional<std::vector<std::string>> views;
 };

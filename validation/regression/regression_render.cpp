@@ -46,7 +46,8 @@ json toJson(const RegressionRender& r) {
             {"camera", "default"},
             {"max_depth", r.build.maxDepth},
             {"max_prims", r.build.maxPrims},
-            {"radius", r.radius}};
+            {"radius", r.radius},
+            {"scale", r.scale}};
 }
 
 CameraOptions viewCamera(const std::string& view, const Scene& scene, int width, int height) {
@@ -84,7 +85,19 @@ Scene loadRegressionScene(const std::string& sceneName, const std::string& root,
     }
     LoadOptions lo;
     lo.radius = render.radius;
-    return loadScene(path, lo);
+    Scene scene = loadScene(path, lo);
+    if (render.scale == 1.0) return scene;
+    if (scene.kind != PrimKind::Triangles)
+        throw IoError(file + ": scene '" + sceneName +
+                      "' is a point cloud; 'scale' applies to triangle meshes only");
+    // Through the array rule (sceneFromTriangles): a scaled vertex out of the numeric range, or
+    // a triangle whose area underflows, is refused naming its row, never dropped.
+    std::vector<float> rows;
+    rows.reserve(9 * scene.triangles.size());
+    for (const Triangle& t : scene.triangles)
+        for (const Vec3& v : {t.v0, t.v1, t.v2})
+            for (float c : {v.x, v.y, v.z}) rows.push_back(float(double(c) * render.scale));
+    return sceneFromTriangles(rows.data(), scene.triangles.size(), sceneName);
 }
 
 std::vector<TracedFrame> renderRegressionFrames(const Scene& scene, const RegressionRender& render,

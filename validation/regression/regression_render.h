@@ -25,6 +25,9 @@ struct RegressionRender {
     int width = 128, height = 128;  // default camera (makeFrame) at this size
     BuildParams build;              // max depth, max prims
     float radius = 0.0f;            // point clouds; 0: the default rule
+    // Every vertex multiplied by this as loaded (triangle meshes): the same scene at a very small
+    // or very large absolute scale, where an epsilon in world units shows.
+    double scale = 1.0;
 };
 
 nlohmann::json toJson(const RegressionRender& r);
@@ -36,7 +39,8 @@ nlohmann::json toJson(const RegressionRender& r);
 CameraOptions viewCamera(const std::string& view, const Scene& scene, int width, int height);
 
 // A scene of the manifest `file`: resolved against `root` unless it is a generator spec; a
-// missing file is an error naming the manifest and the root.
+// missing file is an error naming the manifest and the root; scaled by render.scale (a point
+// cloud with a scale other than 1 is refused).
 Scene loadRegressionScene(const std::string& scene, const std::string& root,
                           const RegressionRender& render, const std::string& file);
 
