@@ -77,12 +77,15 @@ struct SceneRun {
     std::vector<TracedFrame> frames;
 };
 
-// A baseline nothing measured (a layout or view the scene no longer lists): stale, reported.
-void staleRow(const SceneRun& run, const std::string& view, const std::string& layout,
-              const CostTotals& totals, CostReport& cost) {
-    cost.rows.push_back(judgeCost(run.s.scene, layout, totals, std::nullopt, cost.tolerance));
+// One cost row of the scene's frame from `view`: `now` measured by `backend` (none: a baseline
+// nothing measured, a layout or view the scene no longer lists, stale) against `baseline`.
+void addCostRow(const SceneRun& run, const std::string& view, const std::string& layout,
+                const std::string& backend, std::optional<CostTotals> baseline,
+                std::optional<CostTotals> now, CostReport& cost) {
+    cost.rows.push_back(judgeCost(run.s.scene, layout, baseline, now, cost.tolerance));
     cost.rows.back().view = view;
     cost.rows.back().entry = run.name;
+    cost.rows.back().backend = backend;
     cost.rows.back().render = run.render;
 }
 
@@ -92,7 +95,8 @@ void checkScene(const SceneRun& run, GoldenReport& golden, CostReport& cost) {
     const std::string dir = run.m.dir();
     for (const RegressionFrame& f : run.s.frames)
         if (std::find(run.views.begin(), run.views.end(), f.view) == run.views.end())
-            for (const auto& [layout, totals] : f.cost) staleRow(run, f.view, layout, totals, cost);
+            for (const auto& [layout, totals] : f.cost)
+                addCostRow(run, f.view, layout, "", totals, std::nullopt, cost);
     for (const std::string& view : run.views) {
         const RegressionFrame* pinned = findFrame(run.s, view);
         std::vector<uint8_t> image;
@@ -119,18 +123,13 @@ void checkScene(const SceneRun& run, GoldenReport& golden, CostReport& cost) {
             if (!f.usesLayouts) continue;
             std::optional<CostTotals> base;
             if (pinned && pinned->cost.count(f.tracer)) base = pinned->cost.at(f.tracer);
-            cost.rows.push_back(
-                judgeCost(run.s.scene, f.tracer, base, frameCost(f.film), cost.tolerance));
-            cost.rows.back().view = view;
-            cost.rows.back().entry = run.name;
-            cost.rows.back().backend = f.backend;
-            cost.rows.back().render = run.render;
+            addCostRow(run, view, f.tracer, f.backend, base, frameCost(f.film), cost);
             rendered.push_back(f.tracer);
         }
         if (!pinned) continue;
         for (const auto& [layout, totals] : pinned->cost)
             if (std::find(rendered.begin(), rendered.end(), layout) == rendered.end())
-                staleRow(run, view, layout, totals, cost);
+                addCostRow(run, view, layout, "", totals, std::nullopt, cost);
     }
 }
 
@@ -149,37 +148,28 @@ std::vector<RegressionFrame> rewriteScene(const SceneRun& run, GoldenReport& gol
         for (const TracedFrame& f : run.frames) {
             if (f.view != view) continue;
             if (!first) first = &f;
+            // One comparison serves both rules: `differing` counts d > 0 whatever the channel.
+            const GoldenTolerance rule = run.m.goldenTolerance(f.backend);
             const ImageDiff d = compareImages(first->film.width, first->film.height,
-                                              first->film.rgb, f.film.rgb, 0);
+                                              first->film.rgb, f.film.rgb, rule.channel);
             if (f.usesLayouts && d.differing > 0)
                 throw std::runtime_error(
                     fmt("%s, view %s: layouts %s and %s render different images (%llu pixels); "
                         "nothing was written: find out why before pinning an image",
                         run.s.scene.c_str(), view.c_str(), first->tracer.c_str(), f.tracer.c_str(),
                         (unsigned long long)d.differing));
-            const GoldenTolerance rule = run.m.goldenTolerance(f.backend);
-            if (!f.usesLayouts &&
-                !rule.passes(compareImages(first->film.width, first->film.height, first->film.rgb,
-                                           f.film.rgb, rule.channel)))
-                throw std::runtime_error(
-                    fmt("%s, view %s: Embree's frame differs from the new image by more than its "
-                        "rule (%llu pixels over %d/255); nothing was written: run octrace validate "
-                        "on the scene to find the wrong pixels before pinning an image",
-                        run.s.scene.c_str(), view.c_str(),
-                        (unsigned long long)compareImages(first->film.width, first->film.height,
-                                                          first->film.rgb, f.film.rgb, rule.channel)
-                            .over,
-                        rule.channel));
+            if (!f.usesLayouts && !rule.passes(d))
+                throw std::runtime_error(fmt(
+                    "%s, view %s: Embree's frame differs from the new image by more than its "
+                    "rule (%llu pixels over %d/255); nothing was written: run octrace validate "
+                    "on the scene to find the wrong pixels before pinning an image",
+                    run.s.scene.c_str(), view.c_str(), (unsigned long long)d.over, rule.channel));
             if (!f.usesLayouts) continue;
             const CostTotals now = frameCost(f.film);
             nf.pixels = now.pixels;
             std::optional<CostTotals> before;
             if (old && old->cost.count(f.tracer)) before = old->cost.at(f.tracer);
-            cost.rows.push_back(judgeCost(run.s.scene, f.tracer, before, now, cost.tolerance));
-            cost.rows.back().view = view;
-            cost.rows.back().entry = run.name;
-            cost.rows.back().backend = f.backend;
-            cost.rows.back().render = run.render;
+            addCostRow(run, view, f.tracer, f.backend, before, now, cost);
             nf.cost[f.tracer] = now;
         }
         const std::string path = (std::filesystem::path(dir) / nf.image).string();
