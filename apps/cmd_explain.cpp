@@ -100,7 +100,7 @@ void runExplain(const ExplainOptions& o) {
         out.stage(o.json, text.data(), text.size());
     }
     if (!o.html.empty()) {
-        const std::string text = explainPage(e, scene, &page);
+        const std::string text = explainPage(e, bs, o.scene.layoutOptions(), frame, &page);
         out.stage(o.html, text.data(), text.size());
     }
     out.commit();

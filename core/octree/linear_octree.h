@@ -46,7 +46,10 @@ struct LinearOctreeView {
         return c - p - 1 < nodes.count - p - 1 ? nodes.data + c : nullptr;
     }
 };
-static_assert(sizeof(LinearOctreeView) == 56, "LinearOctreeView byte layout is documented above");
+// The layout above is for 64-bit pointers (hosts, CUDA); the explain page's WebAssembly kernel
+// (32-bit pointers) has smaller spans.
+static_assert(sizeof(void*) != 8 || sizeof(LinearOctreeView) == 56,
+              "LinearOctreeView byte layout is documented above");
 static_assert(std::is_trivially_copyable<LinearOctreeView>::value, "views are passed by value");
 
 }  // namespace oct
