@@ -7,10 +7,13 @@
 #include <stb_image.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
@@ -51,6 +54,42 @@ size_t count(const std::string& s, const std::string& what) {
 
 using octtest::dataOf;
 
+struct Chromium {
+    bool ok = false;
+    std::string dom, log;
+    double seconds = 0;
+};
+
+// Opens `url` in headless Chromium from file:// with no network and software WebGL and returns
+// the DOM after its scripts ran (and a screenshot). The page kernel compiles synchronously
+// (emcc -sWASM_ASYNC_COMPILATION=0), so everything the page does happens before its load
+// event, which --dump-dom waits for; the page's clocks are real (a virtual time budget would
+// freeze performance.now, and the click times with it).
+Chromium runChromium(const std::string& chromium, const TempDir& dir, const std::string& url,
+                     const std::string& shot) {
+    const std::string dom = dir.str("dom.html"), log = dir.str("chromium.log");
+    const std::vector<std::string> args = {
+        chromium, "--headless", "--no-sandbox", "--disable-dev-shm-usage",
+        // WebGL without a GPU: SwiftShader, Chromium's software GL.
+        "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+        // No network, no first-run work, a fresh profile.
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--no-first-run", "--disable-default-apps", "--user-data-dir=" + dir.str("profile"),
+        "--enable-logging=stderr", "--v=0", "--hide-scrollbars", "--window-size=1400,900",
+        "--screenshot=" + shot, "--dump-dom", url};
+    std::string cmd = "timeout 120 ";
+    for (const std::string& a : args) cmd += quote(a) + " ";
+    cmd += ">" + quote(dom) + " 2>" + quote(log);
+    const auto start = std::chrono::steady_clock::now();
+    const int status = std::system(cmd.c_str());
+    Chromium r;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    r.dom = readFile(dom);
+    r.log = readFile(log) + (r.ok ? "" : "\n(status " + std::to_string(status) + ")");
+    return r;
+}
+
 TEST(ExplainPageInChromium, RendersTheSceneAndTheStepsWithoutErrors) {
     const std::string chromium = findChromium();
     if (chromium.empty())
@@ -68,30 +107,12 @@ TEST(ExplainPageInChromium, RendersTheSceneAndTheStepsWithoutErrors) {
     for (const auto& l : data["lines"]) steps += !l.contains("heading");
     ASSERT_GT(steps, 10u);
 
-    const std::string shot = dir.str("shot.png"), dom = dir.str("dom.html"),
-                      log = dir.str("chromium.log");
-    const std::vector<std::string> args = {
-        chromium, "--headless", "--no-sandbox", "--disable-dev-shm-usage",
-        // WebGL without a GPU: SwiftShader, Chromium's software GL.
-        "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
-        // No network, no first-run work, a fresh profile.
-        "--disable-background-networking", "--disable-component-update", "--disable-sync",
-        "--no-first-run", "--disable-default-apps", "--user-data-dir=" + dir.str("profile"),
-        "--enable-logging=stderr", "--v=0", "--hide-scrollbars", "--window-size=800,600",
-        "--screenshot=" + shot, "--dump-dom", "file://" + page};
-    std::string cmd = "timeout 90 ";
-    for (const std::string& a : args) cmd += quote(a) + " ";
-    cmd += ">" + quote(dom) + " 2>" + quote(log);
-    const auto start = std::chrono::steady_clock::now();
-    const int status = std::system(cmd.c_str());
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    RecordProperty("chromium_seconds", std::to_string(seconds));
-    std::printf("chromium took %.2f s\n", seconds);
-    const std::string domText = readFile(dom), logText = readFile(log);
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        << "chromium failed (status " << status << ")\n"
-        << logText;
+    const std::string shot = dir.str("shot.png");
+    const Chromium run = runChromium(chromium, dir, "file://" + page, shot);
+    const std::string &domText = run.dom, &logText = run.log;
+    RecordProperty("chromium_seconds", std::to_string(run.seconds));
+    std::printf("chromium took %.2f s\n", run.seconds);
+    ASSERT_TRUE(run.ok) << "chromium failed\n" << logText;
 
     // The page's own report (its first script catches errors and console.error calls).
     EXPECT_NE(domText.find("data-octrace=\"rendered\""), std::string::npos)
@@ -102,14 +123,25 @@ TEST(ExplainPageInChromium, RendersTheSceneAndTheStepsWithoutErrors) {
         << domText.substr(domText.find("octrace-errors"), 2000);
     EXPECT_EQ(logText.find("Uncaught"), std::string::npos) << logText;
     EXPECT_EQ(count(domText, "<li class=\"step"), steps) << "the step list is incomplete";
+    // With the kernel the page traces itself; without (a build without emscripten) it says
+    // that it shows the recorded pixel only, and why.
+    if (data["kernel"].is_null()) {
+        EXPECT_NE(domText.find("data-kernel=\"absent\""), std::string::npos);
+        EXPECT_NE(domText.find("This page shows the pixel octrace recorded, and cannot explain "
+                               "others: this octrace was built without emscripten"),
+                  std::string::npos);
+    } else {
+        EXPECT_NE(domText.find("data-kernel=\"ready\""), std::string::npos);
+        EXPECT_NE(domText.find("This page traces rays itself"), std::string::npos);
+    }
     EXPECT_NE(domText.find("<canvas"), std::string::npos) << "no WebGL canvas";
 
     // The screenshot: a picture (many colours), the primary ray's magenta in it.
     int w = 0, h = 0, channels = 0;
     stbi_uc* px = stbi_load(shot.c_str(), &w, &h, &channels, 3);
     ASSERT_NE(px, nullptr) << "no screenshot\n" << logText;
-    EXPECT_EQ(w, 800);
-    EXPECT_EQ(h, 600);
+    EXPECT_EQ(w, 1400);
+    EXPECT_EQ(h, 900);
     std::set<uint32_t> colours;
     size_t magenta = 0;
     for (int i = 0; i < w * h; ++i) {
@@ -120,6 +152,86 @@ TEST(ExplainPageInChromium, RendersTheSceneAndTheStepsWithoutErrors) {
     stbi_image_free(px);
     EXPECT_GT(colours.size(), 200u) << "the screenshot looks blank";
     EXPECT_GT(magenta, 30u) << "the ray (magenta) is not in the screenshot";
+}
+
+// The element's text as --dump-dom writes it (it escapes &, < and > in text).
+std::string unescapeText(std::string s) {
+    for (auto [from, to] : {std::pair<const char*, const char*>{"&lt;", "<"},
+                            {"&gt;", ">"},
+                            {"&quot;", "\""},
+                            {"&amp;", "&"}}) {
+        for (size_t p = s.find(from); p != std::string::npos; p = s.find(from, p + 1))
+            s.replace(p, std::strlen(from), to);
+    }
+    return s;
+}
+
+// The page traces pixels itself: for each of a few layouts (and a point cloud) it explains
+// pixels it was not written for, in Chromium, with octrace's kernel compiled to WebAssembly;
+// each explanation must be byte for byte what `octrace explain --json --pixel X,Y` prints.
+TEST(ExplainPageInChromium, ItsKernelExplainsAnyPixelAsOctraceExplainDoes) {
+    const std::string chromium = findChromium();
+    if (chromium.empty())
+        GTEST_SKIP() << "no chromium on PATH (scripts/setup installs Debian's chromium)";
+    struct Case {
+        std::string scene, accel, pixels;
+        std::vector<std::string> extra;
+    };
+    // Pixels on the model, on its silhouette, in the background and in a shadow.
+    const std::vector<Case> cases = {
+        {kMeshes + "/teapot.obj", "hash", "30,34;5,5;44,20;33,45", {}},
+        {kMeshes + "/teapot.obj", "compact", "30,34;21,40;60,2", {"--max-depth", "5"}},
+        {"grid:300", "linear", "32,32;10,40", {}},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.scene + " " + c.accel);
+        TempDir dir("kernel");
+        const std::string page = dir.str("page.html");
+        std::vector<std::string> args = {"explain", c.scene, "--size", "64x64",
+                                         "--accel", c.accel, "--html", page};
+        args.insert(args.end(), c.extra.begin(), c.extra.end());
+        RunResult r = runOctrace(args, dir.path());
+        if (r.status != 0 && r.err.find("without the page's viewer") != std::string::npos)
+            GTEST_SKIP() << "octrace built with -DOCT_VIEWER=OFF";
+        ASSERT_EQ(r.status, 0) << show(r);
+        const nlohmann::json data = nlohmann::json::parse(dataOf(readFile(page)));
+        if (data["kernel"].is_null())
+            GTEST_SKIP() << "octrace built without emscripten: " << data["kernel_missing"];
+
+        const Chromium run =
+            runChromium(chromium, dir, "file://" + page + "#test=" + c.pixels, dir.str("s.png"));
+        ASSERT_TRUE(run.ok) << run.log;
+        EXPECT_NE(run.dom.find("data-kernel=\"ready\""), std::string::npos)
+            << run.dom.substr(0, 4000) << "\n--- log ---\n"
+            << run.log;
+        EXPECT_NE(run.dom.find("<pre id=\"octrace-errors\"></pre>"), std::string::npos)
+            << run.dom.substr(run.dom.find("octrace-errors"), 2000);
+        const std::string open = "<pre id=\"octrace-test\">";
+        const size_t a = run.dom.find(open);
+        ASSERT_NE(a, std::string::npos) << "the page wrote no test output\n" << run.log;
+        const size_t b = run.dom.find("</pre>", a);
+        std::istringstream lines(
+            unescapeText(run.dom.substr(a + open.size(), b - a - open.size())));
+        size_t n = 0;
+        double slowest = 0;
+        for (std::string line; std::getline(lines, line);) {
+            const nlohmann::json got = nlohmann::json::parse(line);
+            const std::string pixel =
+                std::to_string(got["x"].get<int>()) + "," + std::to_string(got["y"].get<int>());
+            std::vector<std::string> want = {"explain", c.scene,   "--size", "64x64",  "--accel",
+                                             c.accel,   "--pixel", pixel,    "--json", "-"};
+            want.insert(want.end(), c.extra.begin(), c.extra.end());
+            RunResult w = runOctrace(want, dir.path());
+            ASSERT_EQ(w.status, 0) << show(w);
+            EXPECT_EQ(got["json"].get<std::string>(), w.out) << "pixel " << pixel;
+            slowest = std::max(slowest, got["ms"].get<double>());
+            ++n;
+        }
+        EXPECT_EQ(n, size_t(std::count(c.pixels.begin(), c.pixels.end(), ';') + 1));
+        RecordProperty("click_ms_" + c.accel, std::to_string(slowest));
+        std::printf("%s %s: slowest click %.1f ms, chromium %.1f s\n", c.scene.c_str(),
+                    c.accel.c_str(), slowest, run.seconds);
+    }
 }
 
 }  // namespace

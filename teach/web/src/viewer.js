@@ -1,11 +1,22 @@
 // The viewer of `octrace explain --html`: the model, the octree cells one ray's traversal
 // touched (coloured by visit order), the ray, its hit and its shadow ray, with orbit controls
 // and the list of steps; hovering or clicking a step highlights the cell or the primitive it
-// names. Everything comes from the JSON in <script id="octrace-data"> (teach/explain_page.cpp
-// writes it); esbuild bundles this file with three.js into the one script the page inlines.
+// names, and the step controls (buttons, arrow keys, play) walk through them with the camera
+// framing the current cell. Everything starts from the JSON in <script id="octrace-data">
+// (teach/explain_page.cpp writes it); esbuild bundles this file with three.js into the one
+// script the page inlines.
+//
+// The page's kernel (OctracePageKernel, octrace's kernel compiled to WebAssembly, in the script
+// before this one) rebuilds the layout from the scene in that JSON, renders the image shown in
+// the panel, and explains any pixel clicked with the same code as `octrace explain`. Without it
+// (a build without emscripten, or a --ray page) the page shows the recorded pixel and says so.
 //
 // For tests (tests/teach/browser_test.cpp) the page reports its state in the DOM:
-// <body data-octrace="rendered"> once the first frame is drawn, "error" when anything threw.
+// <body data-octrace="rendered"> once the first frame is drawn, "error" when anything threw;
+// data-kernel="ready" (or "absent", "failed") once the kernel has loaded; with #test=X,Y;X,Y
+// in the address, each pixel is explained in turn and <pre id="octrace-test"> receives one
+// JSON line per pixel ({x, y, ms, json}: json is the kernel's explain --json text), then
+// data-test="done".
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
@@ -80,8 +91,74 @@ function buildModel(data, scene) {
     return object;
 }
 
-function main() {
-    const data = JSON.parse(document.getElementById('octrace-data').textContent);
+// Line segments of many boxes in one geometry (the depth slider can show thousands of cells).
+function boxesGeometry(boxes) {
+    const corners = (b) => [
+        [b[0], b[1], b[2]], [b[3], b[1], b[2]], [b[3], b[4], b[2]], [b[0], b[4], b[2]],
+        [b[0], b[1], b[5]], [b[3], b[1], b[5]], [b[3], b[4], b[5]], [b[0], b[4], b[5]],
+    ];
+    const edges = [[0, 1], [1, 2], [2, 3], [3, 0], [4, 5], [5, 6], [6, 7], [7, 4],
+        [0, 4], [1, 5], [2, 6], [3, 7]];
+    const pos = new Float32Array(boxes.length * 12 * 6);
+    let i = 0;
+    for (const b of boxes) {
+        const c = corners(b);
+        for (const [p, q] of edges) {
+            pos.set(c[p], i);
+            pos.set(c[q], i + 3);
+            i += 6;
+        }
+    }
+    const geom = new THREE.BufferGeometry();
+    geom.setAttribute('position', new THREE.BufferAttribute(pos, 3));
+    return geom;
+}
+
+// The kernel: OctracePageKernel() resolves to the emscripten module; its C functions are
+// called through ccall with JSON strings in and out (teach/wasm/page_kernel.cpp).
+async function loadKernel(data) {
+    if (!data.kernel) return { absent: data.kernel_missing || 'no kernel in this page' };
+    if (typeof OctracePageKernel !== 'function')
+        return { absent: 'the page kernel script is missing' };
+    const module = await OctracePageKernel();
+    const call = (name, types, args) =>
+        JSON.parse(module.ccall(name, 'string', types, args));
+    // The primitives go in as bytes in the module's heap (a string argument would be copied
+    // onto its 5 MB stack): the model mesh's, or the spec's own base64 data.
+    const spec = { ...data.kernel, scene: { ...data.kernel.scene, data: null } };
+    const blobs = data.kernel.scene.from_model
+        ? [decodeBase64(data.mesh.positions, Uint8Array), decodeBase64(data.mesh.indices, Uint8Array)]
+        : [decodeBase64(data.kernel.scene.data, Uint8Array), null];
+    const ptrs = blobs.map((b) => {
+        if (!b) return 0;
+        const p = module._malloc(Math.max(1, b.length));
+        module.HEAPU8.set(b, p);
+        return p;
+    });
+    const loaded = call('octPageLoad', ['string', 'number', 'number', 'number', 'number'], [
+        JSON.stringify(spec), ptrs[0], blobs[0].length, ptrs[1], blobs[1] ? blobs[1].length : 0,
+    ]);
+    ptrs.forEach((p) => p && module._free(p));
+    if (loaded.error) return { failed: loaded.error };
+    return {
+        loaded,
+        explain(x, y) {
+            const page = call('octPageExplain', ['number', 'number'], [x, y]);
+            if (page.error) throw new Error(page.error);
+            page.json = module.ccall('octPageExplanation', 'string', [], []);
+            return page;
+        },
+        pixel: (x, y) => call('octPagePixel', ['number', 'number'], [x, y]),
+        cells: (depth) => call('octPageCells', ['number'], [depth]).cells,
+        image(cost) {
+            const ptr = module.ccall('octPageImage', 'number', ['number'], [cost ? 1 : 0]);
+            const n = loaded.width * loaded.height * 4;
+            return new Uint8ClampedArray(module.HEAPU8.buffer, ptr, n).slice();
+        },
+    };
+}
+
+function main(data, kernel) {
     const view = document.getElementById('view');
     const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
     renderer.setPixelRatio(window.devicePixelRatio || 1);
@@ -96,92 +173,78 @@ function main() {
     scene.add(sun);
 
     const [lo, hi] = [data.root.slice(0, 3), data.root.slice(3, 6)];
-    const centre = new THREE.Vector3((lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2);
     const diag = new THREE.Vector3(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]).length();
-
     const model = buildModel(data, scene);
     scene.add(boxEdges(data.root, 0x5a6070, 0.6));
-
-    // Cells: visited ones in their visit-order colour, the others (boxes tested and missed,
-    // nodes dropped) faint grey behind a checkbox.
-    const cellObjects = new Map();
-    const missedGroup = new THREE.Group();
-    for (const c of data.cells) {
-        const obj = boxEdges(c.box, c.visited ? c.colour : 0x8a8f99, c.visited ? 1 : 0.35);
-        (c.visited ? scene : missedGroup).add(obj);
-        cellObjects.set(c.ray + ':' + c.key, c);
-    }
-    missedGroup.visible = false;
-    scene.add(missedGroup);
-
-    const rodRadius = diag * 0.0025;
-    for (const r of data.rays) {
-        scene.add(rod(r.from, r.to, rodRadius, r.colour));
-        if (r.hit) scene.add(ball(r.hit, rodRadius * 3, r.colour));
-    }
-    scene.add(ball(data.light, rodRadius * 3, 0xffe14d));
-
-    // The primitives the rays tested: hit ones red, the others blue.
-    const primGroup = new THREE.Group();
-    const unitSphere = new THREE.SphereGeometry(1, 16, 12);
-    for (const p of data.prims) {
-        const material = new THREE.MeshBasicMaterial({
-            color: p.hit ? 0xff3b30 : 0x4da3ff,
-            side: THREE.DoubleSide,
-            transparent: true,
-            opacity: p.hit ? 0.95 : 0.6,
-        });
-        let mesh;
-        if (p.v) {
-            const g = new THREE.BufferGeometry();
-            g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(p.v), 3));
-            mesh = new THREE.Mesh(g, material);
-        } else {
-            mesh = new THREE.Mesh(unitSphere, material);
-            mesh.position.set(...p.c);
-            mesh.scale.setScalar(p.r);
-        }
-        primGroup.add(mesh);
-    }
-    scene.add(primGroup);
+    scene.add(ball(data.light, diag * 0.0075, 0xffe14d));
 
     const camera = new THREE.PerspectiveCamera(
         45,
         view.clientWidth / view.clientHeight,
-        diag * 1e-3,
+        diag * 1e-4,
         diag * 100,
     );
-    const target = new THREE.Vector3(...data.view.target);
-    camera.position.set(...data.view.eye);
-    camera.up.set(...data.view.up);
     const controls = new OrbitControls(camera, renderer.domElement);
-    controls.target.copy(target);
-    controls.update();
+    function render() {
+        renderer.render(scene, camera);
+    }
+    controls.addEventListener('change', render);
+    window.addEventListener('resize', () => {
+        camera.aspect = view.clientWidth / view.clientHeight;
+        camera.updateProjectionMatrix();
+        renderer.setSize(view.clientWidth, view.clientHeight);
+        render();
+    });
 
-    // The highlight: a translucent box over the named cell, or the named primitive in yellow.
+    // What belongs to the explained pixel: rebuilt by showPixel for each pixel explained.
+    const pixelGroup = new THREE.Group();
+    const missedGroup = new THREE.Group();
+    const primGroup = new THREE.Group();
     const highlight = new THREE.Group();
-    scene.add(highlight);
-    const primById = new Map(data.prims.map((p) => [p.id, p]));
+    missedGroup.visible = false;
+    scene.add(pixelGroup, missedGroup, primGroup, highlight);
+    const treeGroup = new THREE.Group();
+    scene.add(treeGroup);
+
+    let page = null;
+    let cellObjects = new Map();
+    let primById = new Map();
+    let items = [];
+    let cursor = -1;  // the current step line (index into page.lines), -1: none
+    let pinned = false;
+    let playing = null;
+    const list = document.getElementById('steps');
+    const follow = document.getElementById('follow');
+
+    function clearGroup(g) {
+        for (const child of [...g.children]) {
+            g.remove(child);
+            child.traverse?.((o) => o.geometry?.dispose());
+        }
+    }
+
+    function cellOf(line) {
+        return line && line.key ? cellObjects.get(line.ray + ':' + line.key) : null;
+    }
+
     function show(line) {
         highlight.clear();
         if (!line) return;
-        if (line.key) {
-            const c = cellObjects.get(line.ray + ':' + line.key);
-            if (c) {
-                const [x0, y0, z0, x1, y1, z1] = c.box;
-                const fill = new THREE.Mesh(
-                    new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0),
-                    new THREE.MeshBasicMaterial({
-                        color: 0xffe14d,
-                        transparent: true,
-                        opacity: 0.25,
-                        depthWrite: false,
-                    }),
-                );
-                fill.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
-                highlight.add(fill);
-                highlight.add(boxEdges(c.box, 0xffe14d, 1));
-            }
+        const c = cellOf(line);
+        if (c) {
+            const [x0, y0, z0, x1, y1, z1] = c.box;
+            const fill = new THREE.Mesh(
+                new THREE.BoxGeometry(x1 - x0, y1 - y0, z1 - z0),
+                new THREE.MeshBasicMaterial({
+                    color: 0xffe14d,
+                    transparent: true,
+                    opacity: 0.25,
+                    depthWrite: false,
+                }),
+            );
+            fill.position.set((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2);
+            highlight.add(fill);
+            highlight.add(boxEdges(c.box, 0xffe14d, 1));
         }
         if (line.prim >= 0) {
             const p = primById.get(line.prim);
@@ -200,76 +263,267 @@ function main() {
         }
     }
 
-    function render() {
-        renderer.render(scene, camera);
+    // The camera frames the current step's cell (or primitive): same direction of view, the
+    // target at its centre, far enough to see it whole and its neighbours.
+    function frame(line) {
+        let box = cellOf(line)?.box;
+        const p = line && line.prim >= 0 ? primById.get(line.prim) : null;
+        if (!box && p && p.v) {
+            const v = p.v;
+            box = [Math.min(v[0], v[3], v[6]), Math.min(v[1], v[4], v[7]),
+                Math.min(v[2], v[5], v[8]), Math.max(v[0], v[3], v[6]),
+                Math.max(v[1], v[4], v[7]), Math.max(v[2], v[5], v[8])];
+        } else if (!box && p && p.c) {
+            box = [p.c[0] - p.r, p.c[1] - p.r, p.c[2] - p.r, p.c[0] + p.r, p.c[1] + p.r,
+                p.c[2] + p.r];
+        }
+        if (!box) return;
+        const centre = new THREE.Vector3((box[0] + box[3]) / 2, (box[1] + box[4]) / 2,
+            (box[2] + box[5]) / 2);
+        const size = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2], diag * 1e-3);
+        const dir = camera.position.clone().sub(controls.target).normalize();
+        controls.target.copy(centre);
+        camera.position.copy(centre).add(dir.multiplyScalar(size * 3.2));
+        controls.update();
     }
-    controls.addEventListener('change', render);
-    window.addEventListener('resize', () => {
-        camera.aspect = view.clientWidth / view.clientHeight;
-        camera.updateProjectionMatrix();
-        renderer.setSize(view.clientWidth, view.clientHeight);
-        render();
-    });
 
-    // The step list: hover shows, click pins. A pinned step is named in the address
-    // (#step=N for the primary ray's step N, #shadow=N for the shadow ray's), so a lecturer can
-    // link to it and the page opens with it pinned.
-    const list = document.getElementById('steps');
-    let pinned = null;
-    const items = [];
-    function pin(i) {
+    function setCursor(i, { pin = false } = {}) {
         const was = list.querySelector('li.pinned');
         if (was) was.classList.remove('pinned');
-        pinned = pinned === i ? null : i;
-        if (pinned !== null) {
-            items[i].classList.add('pinned');
-            const l = data.lines[i];
-            history.replaceState(null, '', '#' + (l.ray ? 'shadow' : 'step') + '=' + l.step);
+        cursor = i;
+        pinned = pin || pinned;
+        if (cursor >= 0 && items[cursor]) {
+            items[cursor].classList.add('pinned');
+            items[cursor].scrollIntoView({ block: 'nearest' });
+            const l = page.lines[cursor];
+            const where = page.pixel && kernel.explain ? 'pixel=' + page.pixel.join(',') + '&' : '';
+            history.replaceState(null, '', '#' + where + (l.ray ? 'shadow' : 'step') + '=' + l.step);
+            show(l);
+            if (follow.checked) frame(l);
         } else {
-            history.replaceState(null, '', location.pathname + location.search);
+            show(null);
         }
-        show(pinned === null ? null : data.lines[i]);
         render();
     }
-    data.lines.forEach((line, i) => {
-        if (line.heading) {
-            const h = document.createElement('li');
-            h.className = 'heading';
-            h.textContent = line.text;
-            list.appendChild(h);
-            return;
-        }
-        const li = document.createElement('li');
-        li.className = 'step' + (line.key || line.prim >= 0 ? ' names' : '');
-        li.textContent = line.text;
-        li.dataset.index = String(i);
-        li.addEventListener('mouseenter', () => {
-            show(line);
-            render();
-        });
-        li.addEventListener('mouseleave', () => {
-            show(pinned === null ? null : data.lines[pinned]);
-            render();
-        });
-        li.addEventListener('click', () => pin(i));
-        items[i] = li;
-        list.appendChild(li);
-    });
-    const wanted = /^#(step|shadow)=(\d+)$/.exec(location.hash);
-    if (wanted) {
-        const ray = wanted[1] === 'shadow' ? 1 : 0;
-        const step = Number(wanted[2]);
-        // The line covering that step: the last one starting at or before it.
-        let found = -1;
-        data.lines.forEach((l, i) => {
-            if (!l.heading && l.ray === ray && l.step <= step) found = i;
-        });
-        if (found >= 0) {
-            pin(found);
-            items[found].scrollIntoView({ block: 'center' });
-        }
+
+    // The step lines that can be stepped to, in order.
+    function stepLines() {
+        return page.lines.map((l, i) => (l.heading ? -1 : i)).filter((i) => i >= 0);
+    }
+    function step(delta) {
+        const s = stepLines();
+        if (!s.length) return;
+        const at = s.indexOf(cursor);
+        const next = at < 0 ? (delta > 0 ? 0 : s.length - 1)
+            : Math.min(s.length - 1, Math.max(0, at + delta));
+        setCursor(s[next], { pin: true });
+        return next < s.length - 1;
+    }
+    function stop() {
+        if (playing) clearInterval(playing);
+        playing = null;
+        document.getElementById('play').textContent = '\u25B6';
+    }
+    function play() {
+        if (playing) return stop();
+        document.getElementById('play').textContent = '\u23F8';
+        const rate = Number(document.getElementById('speed').value);
+        playing = setInterval(() => {
+            if (!step(1)) stop();
+        }, 1000 / rate);
     }
 
+    function showPixel(d) {
+        stop();
+        page = d;
+        clearGroup(pixelGroup);
+        clearGroup(missedGroup);
+        clearGroup(primGroup);
+        highlight.clear();
+        cellObjects = new Map();
+        for (const c of d.cells) {
+            const obj = boxEdges(c.box, c.visited ? c.colour : 0x8a8f99, c.visited ? 1 : 0.35);
+            (c.visited ? pixelGroup : missedGroup).add(obj);
+            cellObjects.set(c.ray + ':' + c.key, c);
+        }
+        const rodRadius = diag * 0.0025;
+        for (const r of d.rays) {
+            pixelGroup.add(rod(r.from, r.to, rodRadius, r.colour));
+            if (r.hit) pixelGroup.add(ball(r.hit, rodRadius * 3, r.colour));
+        }
+        // The primitives the rays tested: hit ones red, the others blue.
+        primById = new Map(d.prims.map((p) => [p.id, p]));
+        const unitSphere = new THREE.SphereGeometry(1, 16, 12);
+        for (const p of d.prims) {
+            const material = new THREE.MeshBasicMaterial({
+                color: p.hit ? 0xff3b30 : 0x4da3ff,
+                side: THREE.DoubleSide,
+                transparent: true,
+                opacity: p.hit ? 0.95 : 0.6,
+            });
+            let mesh;
+            if (p.v) {
+                const g = new THREE.BufferGeometry();
+                g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(p.v), 3));
+                mesh = new THREE.Mesh(g, material);
+            } else {
+                mesh = new THREE.Mesh(unitSphere, material);
+                mesh.position.set(...p.c);
+                mesh.scale.setScalar(p.r);
+            }
+            primGroup.add(mesh);
+        }
+        camera.position.set(...d.view.eye);
+        camera.up.set(...d.view.up);
+        controls.target.set(...d.view.target);
+        controls.update();
+
+        document.getElementById('title').textContent = d.title;
+        document.title = d.title;
+        document.getElementById('summary').textContent = d.summary;
+        document.getElementById('note').textContent =
+            [data.model_note, d.prims_note].filter((t) => t).join(' ');
+
+        list.textContent = '';
+        items = [];
+        cursor = -1;
+        pinned = false;
+        d.lines.forEach((line, i) => {
+            const li = document.createElement('li');
+            li.textContent = line.text;
+            if (line.heading) {
+                li.className = 'heading';
+                list.appendChild(li);
+                return;
+            }
+            li.className = 'step' + (line.key || line.prim >= 0 ? ' names' : '');
+            li.dataset.index = String(i);
+            li.addEventListener('mouseenter', () => {
+                show(line);
+                render();
+            });
+            li.addEventListener('mouseleave', () => {
+                show(cursor >= 0 ? page.lines[cursor] : null);
+                render();
+            });
+            li.addEventListener('click', () => {
+                stop();
+                if (cursor === i) {
+                    setCursor(-1);
+                    history.replaceState(null, '', location.pathname + location.search);
+                } else {
+                    setCursor(i, { pin: true });
+                }
+            });
+            items[i] = li;
+            list.appendChild(li);
+        });
+        render();
+    }
+
+    // The line covering step N of a ray: the last one starting at or before it.
+    function lineOfStep(ray, n) {
+        let found = -1;
+        page.lines.forEach((l, i) => {
+            if (!l.heading && l.ray === ray && l.step <= n) found = i;
+        });
+        return found;
+    }
+
+    // --- the image and the kernel ------------------------------------------------------------
+    const state = document.getElementById('kernel-state');
+    const canvas = document.getElementById('image');
+    const costBox = document.getElementById('show-cost');
+    const info = document.getElementById('pixel-info');
+    function drawImage() {
+        if (!kernel.loaded) return;
+        const { width, height } = kernel.loaded;
+        const img = new ImageData(kernel.image(costBox.checked), width, height);
+        canvas.getContext('2d').putImageData(img, 0, 0);
+        document.getElementById('cost-scale').textContent = costBox.checked
+            ? 'inferno: 0 to ' + kernel.loaded.cost_scale + ' boxes tested (99th percentile)'
+            : '';
+    }
+    function explainAt(x, y) {
+        const d = kernel.explain(x, y);
+        showPixel(d);
+        const c = kernel.pixel(x, y);
+        info.textContent = 'pixel (' + x + ', ' + y + '): ' + c.boxes + ' boxes tested, ' +
+            c.prims + ' primitives tested; explained in ' + d.ms.toFixed(1) + ' ms';
+        return d;
+    }
+    if (kernel.loaded) {
+        const { width, height } = kernel.loaded;
+        canvas.width = width;
+        canvas.height = height;
+        drawImage();
+        state.textContent = 'This page traces rays itself: octrace\u2019s kernel in WebAssembly ' +
+            'rebuilt the ' + data.kernel.layout + ' layout (' + kernel.loaded.nodes +
+            ' nodes, identical to octrace\u2019s: fingerprint ' + kernel.loaded.fingerprint +
+            ') in ' + kernel.loaded.build_ms.toFixed(0) + ' ms and rendered the image in ' +
+            kernel.loaded.render_ms.toFixed(0) + ' ms.';
+        canvas.addEventListener('click', (ev) => {
+            const r = canvas.getBoundingClientRect();
+            const x = Math.floor(((ev.clientX - r.left) / r.width) * width);
+            const y = Math.floor(((ev.clientY - r.top) / r.height) * height);
+            if (x < 0 || y < 0 || x >= width || y >= height) return;
+            explainAt(x, y);
+            history.replaceState(null, '', '#pixel=' + x + ',' + y);
+        });
+        costBox.addEventListener('change', drawImage);
+        // The depth slider: every cell of the tree at that depth, faint (leaves brighter).
+        const depth = document.getElementById('depth');
+        depth.max = String(kernel.loaded.max_depth);
+        depth.addEventListener('input', () => {
+            clearGroup(treeGroup);
+            const d = Number(depth.value);
+            document.getElementById('depth-value').textContent = d < 0 ? 'off' : String(d);
+            if (d >= 0) {
+                const cells = kernel.cells(d);
+                const leaves = cells.filter((c) => c[6] === 1);
+                const others = cells.filter((c) => c[6] !== 1);
+                treeGroup.add(new THREE.LineSegments(boxesGeometry(others),
+                    new THREE.LineBasicMaterial({ color: 0x6f7585, transparent: true,
+                        opacity: 0.35 })));
+                treeGroup.add(new THREE.LineSegments(boxesGeometry(leaves),
+                    new THREE.LineBasicMaterial({ color: 0x9fd3ff, transparent: true,
+                        opacity: 0.6 })));
+                document.getElementById('depth-value').textContent = d + ' (' + cells.length +
+                    ' cells, ' + leaves.length + ' leaves with primitives)';
+            }
+            render();
+        });
+    } else {
+        document.getElementById('image-box').style.display = 'none';
+        document.getElementById('depth').disabled = true;
+        state.textContent = 'This page shows the pixel octrace recorded, and cannot explain ' +
+            'others: ' + (kernel.absent || 'its kernel failed: ' + kernel.failed);
+        if (kernel.failed) console.error('page kernel: ' + kernel.failed);
+    }
+
+    // --- controls ----------------------------------------------------------------------------
+    document.getElementById('first').addEventListener('click', () => {
+        stop();
+        setCursor(stepLines()[0] ?? -1, { pin: true });
+    });
+    document.getElementById('prev').addEventListener('click', () => {
+        stop();
+        step(-1);
+    });
+    document.getElementById('next').addEventListener('click', () => {
+        stop();
+        step(1);
+    });
+    document.getElementById('play').addEventListener('click', play);
+    window.addEventListener('keydown', (ev) => {
+        if (ev.target.tagName === 'INPUT' || ev.target.tagName === 'SELECT') return;
+        if (ev.key === 'ArrowRight' || ev.key === 'ArrowDown') step(1);
+        else if (ev.key === 'ArrowLeft' || ev.key === 'ArrowUp') step(-1);
+        else if (ev.key === ' ') play();
+        else if (ev.key === 'Home') setCursor(stepLines()[0] ?? -1, { pin: true });
+        else return;
+        ev.preventDefault();
+    });
     document.getElementById('show-missed').addEventListener('change', (ev) => {
         missedGroup.visible = ev.target.checked;
         render();
@@ -279,8 +533,47 @@ function main() {
         render();
     });
 
+    // The address: #pixel=X,Y explains that pixel (with the kernel), #step=N / #shadow=N pins
+    // a step of it.
+    const hash = new URLSearchParams(location.hash.slice(1));
+    const wanted = hash.get('pixel')?.split(',').map(Number);
+    if (kernel.loaded && wanted && wanted.length === 2) explainAt(wanted[0], wanted[1]);
+    else showPixel(data);
+    for (const [name, ray] of [['step', 0], ['shadow', 1]]) {
+        if (!hash.has(name)) continue;
+        const found = lineOfStep(ray, Number(hash.get(name)));
+        if (found >= 0) setCursor(found, { pin: true });
+    }
     render();
     if (document.body.dataset.octrace !== 'error') document.body.dataset.octrace = 'rendered';
+
+    // Tests: #test=X,Y;X,Y explains each pixel and writes the kernel's JSON into the page.
+    const test = hash.get('test');
+    if (test !== null && kernel.loaded) {
+        const out = document.createElement('pre');
+        out.id = 'octrace-test';
+        document.body.appendChild(out);
+        for (const pair of test.split(';')) {
+            const [x, y] = pair.split(',').map(Number);
+            const t0 = performance.now();
+            const d = explainAt(x, y);
+            const ms = performance.now() - t0;
+            out.textContent += JSON.stringify({ x, y, ms, kernel_ms: d.ms, json: d.json }) + '\n';
+        }
+    }
+    document.body.dataset.test = 'done';
 }
 
-main();
+async function start() {
+    const data = JSON.parse(document.getElementById('octrace-data').textContent);
+    let kernel;
+    try {
+        kernel = await loadKernel(data);
+    } catch (err) {
+        kernel = { failed: String(err && err.message ? err.message : err) };
+    }
+    document.body.dataset.kernel = kernel.loaded ? 'ready' : kernel.absent ? 'absent' : 'failed';
+    main(data, kernel);
+}
+
+start();
