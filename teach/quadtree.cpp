@@ -544,7 +544,8 @@ void drawPanel(SvgWriter& svg, const Quadtree& q, const QuadTrace& tr) {
     for (size_t i = 0; i < tr.visits.size() && i < kListedVisits; ++i) {
         const QuadNode& n = q.nodes[tr.visits[i]];
         line(std::to_string(i + 1) + ". key " + quadKeyBase4(n.key) +
-             (n.leaf() ? ", leaf of " + std::to_string(n.prims.size()) + " primitives"
+             (n.leaf() ? ", leaf of " + std::to_string(n.prims.size()) +
+                             (n.prims.size() == 1 ? " primitive" : " primitives")
                        : ", internal"));
     }
     if (tr.visits.size() > kListedVisits)

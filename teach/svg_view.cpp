@@ -239,9 +239,9 @@ std::string cellStyle(const PlaneCell& c, int visited) {
             return " fill=\"" + colour + "\" fill-opacity=\"0.08\" stroke=\"" + colour +
                    "\" stroke-width=\"1.5\" stroke-dasharray=\"7 3\"";
         case CellRole::Dropped:
-            return " fill=\"none\" stroke=\"#8c8c8c\" stroke-width=\"1\" stroke-dasharray=\"2 3\"";
+            return " fill=\"none\" stroke=\"#6e6e6e\" stroke-width=\"1.2\" stroke-dasharray=\"3 3\"";
         case CellRole::Missed:
-            return " fill=\"none\" stroke=\"#bdbdbd\" stroke-width=\"0.8\" stroke-opacity=\"0.7\"";
+            return " fill=\"none\" stroke=\"#a8a8a8\" stroke-width=\"1\"";
     }
     return "";
 }
@@ -377,7 +377,7 @@ void drawLegend(SvgWriter& svg, const PlaneFigure& f, const Explanation& e) {
     cellSample(CellRole::VisitedInternal, "internal cell visited: children tested");
     cellSample(CellRole::Dropped, "met, not visited (beyond the hit)");
     cellSample(CellRole::Missed, "box tested and missed");
-    svg.rect(kLegendX, rows.y - 7, 26, 14, " fill=\"none\" stroke=\"#e3e3e3\" stroke-width=\"0.6\"");
+    svg.rect(kLegendX, rows.y - 7, 26, 14, " fill=\"none\" stroke=\"#dadada\" stroke-width=\"0.6\"");
     rows.label("octree leaf cells the plane cuts");
     auto triangleSample = [&](const std::string& style, const std::string& text) {
         const double tri[6] = {kLegendX + 2,  rows.y + 6, kLegendX + 24,
@@ -431,7 +431,7 @@ std::string planeFigureSvg(const PlaneFigure& f, const Explanation& e) {
         for (const PlaneCell& c : f.grid) {
             const double x = m.x(c.u0), y = m.y(c.v1);
             svg.rect(x, y, m.x(c.u1) - x, m.y(c.v0) - y,
-                     " class=\"grid\" fill=\"none\" stroke=\"#e3e3e3\" stroke-width=\"0.6\"");
+                     " class=\"grid\" fill=\"none\" stroke=\"#dadada\" stroke-width=\"0.6\"");
         }
     // Cells not entered first, then the visited ones shallow to deep, so nested cells show.
     std::vector<const PlaneCell*> order;
