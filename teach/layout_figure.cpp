@@ -24,14 +24,12 @@ std::vector<FigureArray> arraysOf(const View& v) {
 void checkDrawable(const Octree& tree, const std::string& scene) {
     const uint64_t slots = linearNodeCount(tree.depth);
     if (tree.nodes.size() <= kMaxFigureNodes && slots <= kMaxFigureLinearSlots) return;
-    throw TeachError("--layouts-svg: the octree of '" + scene + "' has " +
-                     std::to_string(tree.nodes.size()) + " nodes and depth " +
-                     std::to_string(tree.depth) + " (" + std::to_string(slots) +
-                     " linear slots), more than a figure can show (" +
-                     std::to_string(kMaxFigureNodes) + " nodes, " +
-                     std::to_string(kMaxFigureLinearSlots) +
-                     " slots): lower --max-depth (now " + std::to_string(tree.params.maxDepth) +
-                     ") or raise --max-prims");
+    throw TeachError(
+        "--layouts-svg: the octree of '" + scene + "' has " + std::to_string(tree.nodes.size()) +
+        " nodes and depth " + std::to_string(tree.depth) + " (" + std::to_string(slots) +
+        " linear slots), more than a figure can show (" + std::to_string(kMaxFigureNodes) +
+        " nodes, " + std::to_string(kMaxFigureLinearSlots) + " slots): lower --max-depth (now " +
+        std::to_string(tree.params.maxDepth) + ") or raise --max-prims");
 }
 
 BuiltScene convertTo(const char* name, const Scene& scene,
@@ -168,19 +166,27 @@ constexpr double kWidth = 1000, kMarginX = 20;
 
 const char* typeFill(NodeType t) {
     switch (t) {
-        case NodeType::Internal: return "#3b5dc9";
-        case NodeType::Leaf: return "#38b764";
-        case NodeType::EmptyLeaf: return "#d8f0df";
-        case NodeType::Invalid: return "#ffffff";
+        case NodeType::Internal:
+            return "#3b5dc9";
+        case NodeType::Leaf:
+            return "#38b764";
+        case NodeType::EmptyLeaf:
+            return "#d8f0df";
+        case NodeType::Invalid:
+            return "#ffffff";
     }
     return "#ffffff";
 }
 const char* typeName(NodeType t) {
     switch (t) {
-        case NodeType::Internal: return "internal";
-        case NodeType::Leaf: return "leaf";
-        case NodeType::EmptyLeaf: return "empty leaf";
-        case NodeType::Invalid: return "unused";
+        case NodeType::Internal:
+            return "internal";
+        case NodeType::Leaf:
+            return "leaf";
+        case NodeType::EmptyLeaf:
+            return "empty leaf";
+        case NodeType::Invalid:
+            return "unused";
     }
     return "unused";
 }
@@ -233,7 +239,8 @@ double drawLinear(SvgWriter& svg, const LayoutFigure& f, double y) {
             }
             const uint64_t index = first + i;
             const LinearSlotFigure& s = f.linear[index];
-            const double x = kMarginX + kLabelW + double(i % 64) * kSlot + double(i % 64 / 8) * kGap;
+            const double x =
+                kMarginX + kLabelW + double(i % 64) * kSlot + double(i % 64 / 8) * kGap;
             std::string title = "slot " + std::to_string(index) + ": " + typeName(s.type);
             if (s.key) title += ", key " + keyOctal(s.key) + " (octal)";
             svg.withTitle("<rect x=\"" + svgNum(x) + "\" y=\"" + svgNum(y) + "\" width=\"" +
@@ -249,9 +256,11 @@ double drawLinear(SvgWriter& svg, const LayoutFigure& f, double y) {
     }
     // The types' key.
     double x = kMarginX;
-    for (NodeType t : {NodeType::Internal, NodeType::Leaf, NodeType::EmptyLeaf, NodeType::Invalid}) {
-        svg.rect(x, y, 11, 11,
-                 std::string(" fill=\"") + typeFill(t) + "\" stroke=\"#909090\" stroke-width=\"0.6\"");
+    for (NodeType t :
+         {NodeType::Internal, NodeType::Leaf, NodeType::EmptyLeaf, NodeType::Invalid}) {
+        svg.rect(
+            x, y, 11, 11,
+            std::string(" fill=\"") + typeFill(t) + "\" stroke=\"#909090\" stroke-width=\"0.6\"");
         svg.text(x + 16, y + 10, typeName(t), " font-size=\"11\"");
         x += 110;
     }
@@ -268,19 +277,20 @@ double drawHash(SvgWriter& svg, const LayoutFigure& f, double y) {
         keys += held;
         collisions += held > 1;
     }
-    y = heading(svg, y,
-                std::string("(b) ") + HashLayout::kName + " octree: m = " + std::to_string(f.buckets) +
-                    " buckets x B = " + std::to_string(f.bucketSlots) + " slots, h(k) = k mod m, " +
-                    std::to_string(keys) + " keys (octal), " + std::to_string(collisions) +
-                    " collisions",
-                bytesLine(f.hashBytes, f.hashArrays));
-    std::string lookup = "lookup of key " + keyOctal(f.lookupKey) +
-                         (f.lookupIsFirstLeaf ? " (the first leaf the ray visits)"
-                                              : " (the root: the ray visits no leaf)") +
-                         ": bucket " + std::to_string(f.lookupKey % std::max<uint64_t>(f.buckets, 1)) +
-                         ", " + std::to_string(f.probes.size()) + (f.probes.size() == 1 ? " probe" : " probes") +
-                         (f.probesRecorded ? ", as the explained traversal made them"
-                                           : ", as the hash view's lookup makes them");
+    y = heading(
+        svg, y,
+        std::string("(b) ") + HashLayout::kName + " octree: m = " + std::to_string(f.buckets) +
+            " buckets x B = " + std::to_string(f.bucketSlots) + " slots, h(k) = k mod m, " +
+            std::to_string(keys) + " keys (octal), " + std::to_string(collisions) + " collisions",
+        bytesLine(f.hashBytes, f.hashArrays));
+    std::string lookup =
+        "lookup of key " + keyOctal(f.lookupKey) +
+        (f.lookupIsFirstLeaf ? " (the first leaf the ray visits)"
+                             : " (the root: the ray visits no leaf)") +
+        ": bucket " + std::to_string(f.lookupKey % std::max<uint64_t>(f.buckets, 1)) + ", " +
+        std::to_string(f.probes.size()) + (f.probes.size() == 1 ? " probe" : " probes") +
+        (f.probesRecorded ? ", as the explained traversal made them"
+                          : ", as the hash view's lookup makes them");
     svg.text(kMarginX, y, lookup, " font-size=\"12\" fill=\"#a05000\"");
     y += 12;
     constexpr double kSlotW = 46, kRowH = 17, kLabelW = 54, kColGap = 18;
@@ -293,7 +303,8 @@ double drawHash(SvgWriter& svg, const LayoutFigure& f, double y) {
         for (uint32_t s = 0; s < f.bucketSlots; ++s) held += f.hash[b * f.bucketSlots + s].key != 0;
         svg.text(x0, yb + 12, "b " + std::to_string(b) + (held > 1 ? " *" : ""),
                  std::string(" class=\"bucket") + (held > 1 ? " collision" : "") +
-                     "\" font-size=\"11\"" + (held > 1 ? " font-weight=\"bold\" fill=\"#b13e53\"" : ""));
+                     "\" font-size=\"11\"" +
+                     (held > 1 ? " font-weight=\"bold\" fill=\"#b13e53\"" : ""));
         for (uint32_t s = 0; s < f.bucketSlots; ++s) {
             const HashSlotFigure& h = f.hash[b * f.bucketSlots + s];
             const double x = x0 + kLabelW + s * kSlotW;
@@ -301,14 +312,16 @@ double drawHash(SvgWriter& svg, const LayoutFigure& f, double y) {
                      " class=\"hslot\" data-bucket=\"" + std::to_string(b) + "\" data-slot=\"" +
                          std::to_string(s) + "\" data-key=\"" + (h.key ? keyOctal(h.key) : "") +
                          "\" data-probe=\"" + std::to_string(h.probe) + "\" fill=\"" +
-                         (h.key ? typeFill(h.type) : "#ffffff") + "\" fill-opacity=\"0.35\" stroke=\"" +
-                         (h.probe ? "#e07000" : "#909090") + "\" stroke-width=\"" +
-                         (h.probe ? "2.2" : "0.6") + "\"");
+                         (h.key ? typeFill(h.type) : "#ffffff") +
+                         "\" fill-opacity=\"0.35\" stroke=\"" + (h.probe ? "#e07000" : "#909090") +
+                         "\" stroke-width=\"" + (h.probe ? "2.2" : "0.6") + "\"");
             if (h.key)
-                svg.text(x + 3, yb + 11, keyOctal(h.key), " font-size=\"10\" font-family=\"monospace\"");
+                svg.text(x + 3, yb + 11, keyOctal(h.key),
+                         " font-size=\"10\" font-family=\"monospace\"");
             if (h.probe)
-                svg.text(x + kSlotW - 5, yb + 11, std::to_string(h.probe),
-                         " font-size=\"10\" text-anchor=\"end\" font-weight=\"bold\" fill=\"#e07000\"");
+                svg.text(
+                    x + kSlotW - 5, yb + 11, std::to_string(h.probe),
+                    " font-size=\"10\" text-anchor=\"end\" font-weight=\"bold\" fill=\"#e07000\"");
         }
     }
     y += double(std::min<uint64_t>(rows, std::max<uint64_t>(f.buckets, 1))) * kRowH + 6;
@@ -323,8 +336,8 @@ double drawHash(SvgWriter& svg, const LayoutFigure& f, double y) {
 // i = octant i, bit 7 first) and first child, or a leaf record's list in primIndices.
 double drawCompact(SvgWriter& svg, const LayoutFigure& f, double y) {
     y = heading(svg, y,
-                std::string("(c) ") + CompactLayout::kName + " octree: " +
-                    std::to_string(f.compact.size()) +
+                std::string("(c) ") + CompactLayout::kName +
+                    " octree: " + std::to_string(f.compact.size()) +
                     " records of 8 bytes, children stored together; empty leaves not stored",
                 bytesLine(f.compactBytes, f.compactArrays));
     constexpr double kRowH = 15, kColW = 240;
@@ -332,7 +345,8 @@ double drawCompact(SvgWriter& svg, const LayoutFigure& f, double y) {
     const uint64_t cols = (f.compact.size() + kRows - 1) / kRows;
     for (uint64_t c = 0; c < std::max<uint64_t>(cols, 1); ++c)
         svg.text(kMarginX + c * kColW, y + 10, "rec key  child    leaf     first",
-                 " font-size=\"10\" font-family=\"monospace\" font-weight=\"bold\" xml:space=\"preserve\"");
+                 " font-size=\"10\" font-family=\"monospace\" font-weight=\"bold\" "
+                 "xml:space=\"preserve\"");
     y += kRowH;
     for (size_t r = 0; r < f.compact.size(); ++r) {
         const CompactRecordFigure& c = f.compact[r];
@@ -341,7 +355,8 @@ double drawCompact(SvgWriter& svg, const LayoutFigure& f, double y) {
             row += "leaf: " + std::to_string(c.primCount) + " prims from " +
                    std::to_string(c.primOffset);
         else
-            row += bits8(c.childMask) + " " + bits8(c.leafMask) + " " + std::to_string(c.firstChild);
+            row +=
+                bits8(c.childMask) + " " + bits8(c.leafMask) + " " + std::to_string(c.firstChild);
         svg.text(kMarginX + double(r / kRows) * kColW, y + double(r % kRows) * kRowH + 10, row,
                  " class=\"crecord\" data-record=\"" + std::to_string(r) + "\" data-key=\"" +
                      keyOctal(c.key) + "\" data-leaf=\"" + (c.leaf ? "1" : "0") +
@@ -351,10 +366,11 @@ double drawCompact(SvgWriter& svg, const LayoutFigure& f, double y) {
                      (c.leaf ? " fill=\"#2a8a4a\"" : " fill=\"#203a90\""));
     }
     y += double(std::min<uint64_t>(kRows, f.compact.size())) * kRowH + 8;
-    svg.text(kMarginX, y + 10,
-             "masks: bit i (i = x + 2y + 4z) from the right; the children of an internal record are "
-             "records first .. first + (bits in child) - 1",
-             " font-size=\"11\" fill=\"#404040\"");
+    svg.text(
+        kMarginX, y + 10,
+        "masks: bit i (i = x + 2y + 4z) from the right; the children of an internal record are "
+        "records first .. first + (bits in child) - 1",
+        " font-size=\"11\" fill=\"#404040\"");
     return y + 24;
 }
 
@@ -362,14 +378,16 @@ double drawCompact(SvgWriter& svg, const LayoutFigure& f, double y) {
 
 std::string layoutFigureSvg(const LayoutFigure& f) {
     const std::string title = "octrace explain --layouts-svg: " + f.scene + ", one octree of " +
-                              std::to_string(f.nodes) + " nodes (depth " +
-                              std::to_string(f.depth) + ") in three layouts";
+                              std::to_string(f.nodes) + " nodes (depth " + std::to_string(f.depth) +
+                              ") in three layouts";
     // Drawn once to learn the height, then again at that height: the panels' sizes depend on
     // the octree.
     auto draw = [&](double height) {
         SvgWriter svg(kWidth, height, title);
         svg.text(kMarginX, 26, title, " font-size=\"16\" font-weight=\"bold\"");
-        svg.text(kMarginX, 44, "keys: Morton keys in octal, 1 is the root and each further digit an octant x + 2y + 4z",
+        svg.text(kMarginX, 44,
+                 "keys: Morton keys in octal, 1 is the root and each further digit an octant x + "
+                 "2y + 4z",
                  " font-size=\"12\" fill=\"#404040\"");
         double y = drawLinear(svg, f, 72);
         y = drawHash(svg, f, y);

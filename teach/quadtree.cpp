@@ -129,8 +129,10 @@ void triangleCorners(const Scene& scene, uint32_t id, const AxisPlane& p, Point2
 // Separating axes (the 2D form of the octree builder's triangle-box test): the cell's two
 // axes and the triangle's three edge normals. Touching counts as overlapping.
 bool triangleOverlapsCell(const Point2 t[3], const QuadCell& c) {
-    const double minU = std::min({t[0].u, t[1].u, t[2].u}), maxU = std::max({t[0].u, t[1].u, t[2].u});
-    const double minV = std::min({t[0].v, t[1].v, t[2].v}), maxV = std::max({t[0].v, t[1].v, t[2].v});
+    const double minU = std::min({t[0].u, t[1].u, t[2].u}),
+                 maxU = std::max({t[0].u, t[1].u, t[2].u});
+    const double minV = std::min({t[0].v, t[1].v, t[2].v}),
+                 maxV = std::max({t[0].v, t[1].v, t[2].v});
     if (maxU < c.u0 || minU > c.u1 || maxV < c.v0 || minV > c.v1) return false;
     const Point2 corners[4] = {{c.u0, c.v0}, {c.u1, c.v0}, {c.u0, c.v1}, {c.u1, c.v1}};
     for (int e = 0; e < 3; ++e) {
@@ -186,8 +188,10 @@ bool inseparable(const Scene& scene, const std::vector<uint32_t>& prims, const A
             const Sphere& f = scene.spheres[prims[0]];
             same = same && s.center[p.u] == f.center[p.u] && s.center[p.v] == f.center[p.v] &&
                    s.radius == f.radius;
-            const double fu = std::max(std::fabs(c.u0 - s.center[p.u]), std::fabs(c.u1 - s.center[p.u]));
-            const double fv = std::max(std::fabs(c.v0 - s.center[p.v]), std::fabs(c.v1 - s.center[p.v]));
+            const double fu =
+                std::max(std::fabs(c.u0 - s.center[p.u]), std::fabs(c.u1 - s.center[p.u]));
+            const double fv =
+                std::max(std::fabs(c.v0 - s.center[p.v]), std::fabs(c.v1 - s.center[p.v]));
             allContain = allContain && fu * fu + fv * fv <= double(s.radius) * s.radius;
         }
         if (!same && !allContain) return false;
@@ -435,8 +439,8 @@ void drawCell(SvgWriter& svg, const Mapping& m, const QuadNode& n, int visit, in
     std::string fill = "none";
     std::string opacity;
     if (n.leaf() && visit > 0) {
-        fill = svgColour(mapColour(ColourMap::Viridis,
-                                   visits > 1 ? double(visit - 1) / (visits - 1) : 0.0));
+        fill = svgColour(
+            mapColour(ColourMap::Viridis, visits > 1 ? double(visit - 1) / (visits - 1) : 0.0));
         opacity = " fill-opacity=\"0.3\"";
     } else if (n.leaf() && n.prims.empty()) {
         fill = "#f2f2f2";
@@ -444,13 +448,12 @@ void drawCell(SvgWriter& svg, const Mapping& m, const QuadNode& n, int visit, in
     const double stroke = std::max(0.6, 2.4 - 0.45 * n.depth);
     svg.withTitle("<rect x=\"" + svgNum(x) + "\" y=\"" + svgNum(y) + "\" width=\"" + svgNum(w) +
                       "\" height=\"" + svgNum(h) + "\" class=\"qcell" +
-                      (n.leaf() ? " leaf" : " internal") + "\" data-key=\"" +
-                      quadKeyBase4(n.key) + "\" data-visit=\"" + std::to_string(visit) +
-                      "\" fill=\"" + fill + "\"" + opacity + " stroke=\"#404040\" stroke-width=\"" +
-                      svgNum(stroke) + "\"",
+                      (n.leaf() ? " leaf" : " internal") + "\" data-key=\"" + quadKeyBase4(n.key) +
+                      "\" data-visit=\"" + std::to_string(visit) + "\" fill=\"" + fill + "\"" +
+                      opacity + " stroke=\"#404040\" stroke-width=\"" + svgNum(stroke) + "\"",
                   "rect",
-                  "key " + quadKeyBase4(n.key) + " (base 4) = " + quadKeyBinary(n.key) + ", depth " +
-                      std::to_string(n.depth) + ", " + std::to_string(n.prims.size()) +
+                  "key " + quadKeyBase4(n.key) + " (base 4) = " + quadKeyBinary(n.key) +
+                      ", depth " + std::to_string(n.depth) + ", " + std::to_string(n.prims.size()) +
                       " primitives");
 }
 

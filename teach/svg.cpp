@@ -17,11 +17,20 @@ std::string svgNum(double v) {
 std::string xmlEscape(const std::string& text) {
     std::string out;
     for (char c : text) switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            default: out += c;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
         }
     return out;
 }
@@ -51,8 +60,8 @@ void SvgWriter::line(double x0, double y0, double x1, double y1, const std::stri
 }
 
 void SvgWriter::circle(double cx, double cy, double r, const std::string& attrs) {
-    body_ += "<circle cx=\"" + svgNum(cx) + "\" cy=\"" + svgNum(cy) + "\" r=\"" + svgNum(r) +
-             "\"" + attrs + "/>\n";
+    body_ += "<circle cx=\"" + svgNum(cx) + "\" cy=\"" + svgNum(cy) + "\" r=\"" + svgNum(r) + "\"" +
+             attrs + "/>\n";
 }
 
 void SvgWriter::polygon(const double* xy, int points, const std::string& attrs) {

@@ -36,8 +36,7 @@ std::string vecText(Vec3 v) {
 }
 
 // A box with the plane's axis w dropped: its rectangle in plane coordinates.
-void projectBox(const Aabb& b, const AxisPlane& p, double& u0, double& v0, double& u1,
-                double& v1) {
+void projectBox(const Aabb& b, const AxisPlane& p, double& u0, double& v0, double& u1, double& v1) {
     u0 = b.lo[p.u];
     u1 = b.hi[p.u];
     v0 = b.lo[p.v];
@@ -79,8 +78,8 @@ std::vector<PlaneCell> testedCells(const std::vector<ExplainStep>& steps, const 
         projectBox(s.box, p, c.u0, c.v0, c.u1, c.v1);
         const auto it = order.find(s.key);
         c.visit = it == order.end() ? 0 : it->second;
-        c.role = !s.hit              ? CellRole::Missed
-                 : c.visit == 0      ? CellRole::Dropped
+        c.role = !s.hit                 ? CellRole::Missed
+                 : c.visit == 0         ? CellRole::Dropped
                  : parents.count(s.key) ? CellRole::VisitedInternal
                                         : CellRole::VisitedLeaf;
         cells.push_back(c);
@@ -216,10 +215,14 @@ namespace {
 
 const char* roleClass(CellRole r) {
     switch (r) {
-        case CellRole::VisitedLeaf: return "visited-leaf";
-        case CellRole::VisitedInternal: return "visited-internal";
-        case CellRole::Dropped: return "dropped";
-        case CellRole::Missed: return "missed";
+        case CellRole::VisitedLeaf:
+            return "visited-leaf";
+        case CellRole::VisitedInternal:
+            return "visited-internal";
+        case CellRole::Dropped:
+            return "dropped";
+        case CellRole::Missed:
+            return "missed";
     }
     return "missed";
 }
@@ -239,7 +242,8 @@ std::string cellStyle(const PlaneCell& c, int visited) {
             return " fill=\"" + colour + "\" fill-opacity=\"0.08\" stroke=\"" + colour +
                    "\" stroke-width=\"1.5\" stroke-dasharray=\"7 3\"";
         case CellRole::Dropped:
-            return " fill=\"none\" stroke=\"#6e6e6e\" stroke-width=\"1.2\" stroke-dasharray=\"3 3\"";
+            return " fill=\"none\" stroke=\"#6e6e6e\" stroke-width=\"1.2\" stroke-dasharray=\"3 "
+                   "3\"";
         case CellRole::Missed:
             return " fill=\"none\" stroke=\"#a8a8a8\" stroke-width=\"1\"";
     }
@@ -308,8 +312,9 @@ void drawSegment(SvgWriter& svg, const PlaneMapping& m, const PlaneSegment& s, c
 
 void drawHit(SvgWriter& svg, const PlaneMapping& m, double u, double v) {
     const double x = m.x(u), y = m.y(v);
-    svg.circle(x, y, 6, " class=\"hit-point\" fill=\"#ffffff\" stroke=\"#000000\" "
-                        "stroke-width=\"1.5\"");
+    svg.circle(x, y, 6,
+               " class=\"hit-point\" fill=\"#ffffff\" stroke=\"#000000\" "
+               "stroke-width=\"1.5\"");
     svg.line(x - 4, y, x + 4, y, " stroke=\"#000000\" stroke-width=\"1.5\"");
     svg.line(x, y - 4, x, y + 4, " stroke=\"#000000\" stroke-width=\"1.5\"");
 }
@@ -334,8 +339,8 @@ namespace {
 std::string planeLine(const PlaneFigure& f) {
     const std::string w = axisName(f.plane.w);
     std::string s = "plane " + f.plane.name() + " at " + w + " = " + shortNum(f.plane.at);
-    s += f.rayInPlane ? ": the ray lies in it"
-                      : ": cells, primitives and rays projected along " + w;
+    s +=
+        f.rayInPlane ? ": the ray lies in it" : ": cells, primitives and rays projected along " + w;
     return s;
 }
 
@@ -344,7 +349,8 @@ struct LegendRows {
     SvgWriter& svg;
     double y;
     void label(const std::string& text, double size = 12) {
-        svg.text(kLegendX + 34, y + 4, text, " font-size=\"" + svgNum(size) + "\" fill=\"#202020\"");
+        svg.text(kLegendX + 34, y + 4, text,
+                 " font-size=\"" + svgNum(size) + "\" fill=\"#202020\"");
         y += 20;
     }
     void note(const std::string& text) {
@@ -362,8 +368,7 @@ void drawLegend(SvgWriter& svg, const PlaneFigure& f, const Explanation& e) {
     for (int i = 0; i < 10; ++i)
         svg.rect(kLegendX + i * 9, rows.y - 6, 9, 10,
                  " fill=\"" + svgColour(visitColour(1 + (n - 1) * i / 9, n)) + "\"");
-    svg.text(kLegendX + 96, rows.y + 4,
-             "visit order 1 .. " + std::to_string(f.visited),
+    svg.text(kLegendX + 96, rows.y + 4, "visit order 1 .. " + std::to_string(f.visited),
              " font-size=\"12\"");
     rows.y += 22;
     PlaneCell sample;
@@ -377,11 +382,12 @@ void drawLegend(SvgWriter& svg, const PlaneFigure& f, const Explanation& e) {
     cellSample(CellRole::VisitedInternal, "internal cell visited: children tested");
     cellSample(CellRole::Dropped, "met, not visited (beyond the hit)");
     cellSample(CellRole::Missed, "box tested and missed");
-    svg.rect(kLegendX, rows.y - 7, 26, 14, " fill=\"none\" stroke=\"#dadada\" stroke-width=\"0.6\"");
+    svg.rect(kLegendX, rows.y - 7, 26, 14,
+             " fill=\"none\" stroke=\"#dadada\" stroke-width=\"0.6\"");
     rows.label("octree leaf cells the plane cuts");
     auto triangleSample = [&](const std::string& style, const std::string& text) {
-        const double tri[6] = {kLegendX + 2,  rows.y + 6, kLegendX + 24,
-                               rows.y + 6,    kLegendX + 13, rows.y - 7};
+        const double tri[6] = {kLegendX + 2, rows.y + 6,    kLegendX + 24,
+                               rows.y + 6,   kLegendX + 13, rows.y - 7};
         svg.polygon(tri, 3, style);
         rows.label(text);
     };

@@ -48,8 +48,8 @@ struct PlanePrim {
 
 // A ray's drawn part, in plane coordinates: from (u0, v0) to (u1, v1), clipped to the view.
 struct PlaneSegment {
-    bool drawn = false;   // false: nothing of it lies in the view
-    bool endOn = false;   // the ray runs along the dropped axis: drawn as a point
+    bool drawn = false;  // false: nothing of it lies in the view
+    bool endOn = false;  // the ray runs along the dropped axis: drawn as a point
     bool endsAtHit = false;
     double u0 = 0, v0 = 0, u1 = 0, v1 = 0;
 };

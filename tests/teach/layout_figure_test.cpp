@@ -64,8 +64,8 @@ uint64_t firstLeafVisited(const Explanation& e, const Octree& t) {
 
 size_t countMatches(const std::string& text, const std::string& pattern) {
     const std::regex re(pattern);
-    return size_t(std::distance(std::sregex_iterator(text.begin(), text.end(), re),
-                                std::sregex_iterator()));
+    return size_t(
+        std::distance(std::sregex_iterator(text.begin(), text.end(), re), std::sregex_iterator()));
 }
 
 TEST(LayoutFigure, LinearSlotsAreTheNodesAtTheirLinearIndex) {

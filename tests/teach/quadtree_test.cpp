@@ -69,7 +69,8 @@ TEST(Quadtree, ThreePointsGiveTheHandComputedCells) {
     EXPECT_EQ(leaves["100"], std::vector<uint32_t>{0});
     EXPECT_EQ(leaves["101"], std::vector<uint32_t>{1});
     EXPECT_EQ(leaves["13"], std::vector<uint32_t>{2});
-    for (const char* empty : {"11", "12", "102", "103"}) EXPECT_TRUE(leaves[empty].empty()) << empty;
+    for (const char* empty : {"11", "12", "102", "103"})
+        EXPECT_TRUE(leaves[empty].empty()) << empty;
     for (const QuadNode& n : q.nodes)
         if (quadKeyBase4(n.key) == "101") {
             EXPECT_EQ(n.key, 0b10001u);
@@ -117,7 +118,8 @@ TEST(Quadtree, TheRayVisitsNearestFirstAndStopsAtTheHit) {
 // quadtree's hit is the octree's, primitive and distance.
 TEST(Quadtree, AgreesWithTheOctreeForARayInTheCloudsPlane) {
     std::vector<std::pair<float, float>> uv;
-    for (int i = 0; i < 40; ++i) uv.push_back({float((i * 37) % 41) / 41.0f, float((i * 11) % 17) / 17.0f});
+    for (int i = 0; i < 40; ++i)
+        uv.push_back({float((i * 37) % 41) / 41.0f, float((i * 11) % 17) / 17.0f});
     const Scene s = flatPoints(uv, 0.015f);
     const BuiltScene bs = buildScene(s, findLayout("linear"), LayoutOptions{});
     const FrameParams frame = makeFrame(s.bounds(), CameraOptions{});

@@ -15,16 +15,16 @@ using namespace octtest;
 using octtest::kTeapot;
 
 bool isSvg(const std::string& text) {
-    return text.rfind("<?xml", 0) == 0 && text.find("<svg xmlns=\"http://www.w3.org/2000/svg\"") !=
-                                              std::string::npos &&
+    return text.rfind("<?xml", 0) == 0 &&
+           text.find("<svg xmlns=\"http://www.w3.org/2000/svg\"") != std::string::npos &&
            text.size() > 7 && text.substr(text.size() - 7) == "</svg>\n";
 }
 
 TEST(SvgCli, SvgWritesTheSameFigureEveryRun) {
     TempDir dir("svg_cli");
     for (const char* plane : {"", "xz"}) {
-        std::vector<std::string> args = {"explain", kTeapot, "--size", "32x24", "--pixel",
-                                         "16,12", "--svg", dir.str("a.svg")};
+        std::vector<std::string> args = {"explain", kTeapot, "--size", "32x24",
+                                         "--pixel", "16,12", "--svg",  dir.str("a.svg")};
         if (*plane) args.insert(args.end(), {"--svg-plane", plane});
         RunResult r = runOctrace(args, dir.path());
         ASSERT_EQ(r.status, 0) << show(r);

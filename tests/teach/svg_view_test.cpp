@@ -112,7 +112,8 @@ TEST(SvgView, CellsAreTheBoxTestsProjectedAndNumberedInVisitOrder) {
 TEST(SvgView, LeavesAndInternalCellsAreTheOctreesOwn) {
     for (int px : {8, 16, 20}) {
         const Explained x = explainTeapot(findLayout("hash"), px, 12);
-        const PlaneFigure f = planeFigure(x.e, x.scene, x.bs.tree.get(), planeOfRay(x.e.primary.ray));
+        const PlaneFigure f =
+            planeFigure(x.e, x.scene, x.bs.tree.get(), planeOfRay(x.e.primary.ray));
         std::map<uint64_t, NodeType> types;
         for (const OctreeNode& n : x.bs.tree->nodes) types[n.key] = n.nodeType();
         int leaves = 0;
