@@ -380,7 +380,7 @@ void drawLegend(SvgWriter& svg, const PlaneFigure& f, const Explanation& e) {
     };
     cellSample(CellRole::VisitedLeaf, "leaf visited: its primitives tested");
     cellSample(CellRole::VisitedInternal, "internal cell visited: children tested");
-    cellSample(CellRole::Dropped, "met, not visited (beyond the hit)");
+    cellSample(CellRole::Dropped, "met, not visited (beyond the hit, or culled)");
     cellSample(CellRole::Missed, "box tested and missed");
     svg.rect(kLegendX, rows.y - 7, 26, 14,
              " fill=\"none\" stroke=\"#dadada\" stroke-width=\"0.6\"");

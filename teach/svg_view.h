@@ -22,7 +22,8 @@ namespace oct {
 enum class CellRole : uint8_t {
     VisitedLeaf,      // popped and visited; its primitives were tested
     VisitedInternal,  // popped and visited; its children were tested
-    Dropped,          // met, but entered beyond the closest hit when popped (or never popped)
+    Dropped,          // met, not visited: entered beyond the closest hit, or culled (compact
+                      // bounds), or never popped
     Missed,           // its box test failed
 };
 
