@@ -1,6 +1,7 @@
-// octrace explain: one pixel's (or one ray's) traversal step by step, as text, JSON or an
-// interactive HTML page. The work is teach/explain.h (the kernel with a recording observer) and
-// teach/explain_page.h; this file parses the options and prints.
+// octrace explain: one pixel's (or one ray's) traversal step by step, as text, JSON, an
+// interactive HTML page or figures for slides (SVG). The work is teach/explain.h (the kernel
+// with a recording observer), teach/explain_page.h, teach/svg_view.h, teach/quadtree.h and
+// teach/layout_figure.h; this file parses the options and prints.
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -14,6 +15,9 @@
 #include "core/scene/load_scene.h"
 #include "teach/explain.h"
 #include "teach/explain_page.h"
+#include "teach/layout_figure.h"
+#include "teach/quadtree.h"
+#include "teach/svg_view.h"
 
 namespace oct {
 namespace {
@@ -23,7 +27,53 @@ struct ExplainOptions {
     std::string accel = kDefaultLayout;
     CameraChoice camera;
     std::string pixel, ray, json, html;
+    std::string svg, svgPlane, layoutsSvg;
+    bool quadtree = false;
 };
+
+// The figure options' combinations, before anything is loaded.
+void checkFigureOptions(const ExplainOptions& o) {
+    if (o.quadtree && o.svg.empty())
+        throw CLI::ValidationError("--quadtree",
+                                   "draws into the --svg file: give --svg F.svg as well");
+    if (!o.svgPlane.empty() && o.svg.empty())
+        throw CLI::ValidationError("--svg-plane", "'" + o.svgPlane +
+                                                      "' chooses the plane of the --svg figure: "
+                                                      "give --svg F.svg as well");
+    if (!o.svgPlane.empty()) parseAxisPlane(o.svgPlane);  // a bad name is refused here
+    for (const auto& [name, path] : {std::pair{"--svg", &o.svg}, {"--layouts-svg", &o.layoutsSvg}})
+        if (*path == "-") throw CLI::ValidationError(name, "needs a file name, not stdout");
+}
+
+// The --svg figure: the explained ray in a plane of the octree, or with --quadtree the
+// quadtree of the flat scene and the ray in its plane.
+std::string svgFigure(const ExplainOptions& o, const Explanation& e, const Scene& scene,
+                      const BuiltScene& bs, std::string& what) {
+    if (!o.quadtree) {
+        what = "the explained ray over the octree's cells";
+        return explainSvg(e, scene, bs.tree.get(), o.svgPlane);
+    }
+    const AxisPlane plane = quadtreePlane(scene, o.svgPlane);
+    const Ray2D ray = rayInPlane(e.primary.ray, plane);
+    const Quadtree q =
+        buildQuadtree(scene, plane, quadRootOf(scene, plane), o.scene.layoutOptions().build);
+    const QuadTrace trace = traceQuadtree(q, scene, ray);
+    what = "quadtree of " + std::to_string(q.nodes.size()) + " cells in the " + plane.name() +
+           " plane, " + std::to_string(trace.visits.size()) + " visited";
+    return quadtreeSvg(q, trace, scene, explainFigureTitle(e), explainFigureQuery(e));
+}
+
+// The --layouts-svg figure, from the explained layout's canonical octree (or one built now for
+// a layout without an octree).
+std::string layoutsFigure(const ExplainOptions& o, const Explanation& e, const Scene& scene,
+                          const BuiltScene& bs, std::string& what) {
+    const LayoutOptions options = o.scene.layoutOptions();
+    const std::shared_ptr<const Octree> tree =
+        bs.tree ? bs.tree : buildSharedOctree(scene, options.build);
+    const LayoutFigure f = layoutFigure(scene, tree, options, e);
+    what = "one octree of " + std::to_string(f.nodes) + " nodes in three layouts";
+    return layoutFigureSvg(f);
+}
 
 // "X,Y": two integers.
 void parsePixel(const std::string& text, int& x, int& y) {
@@ -82,10 +132,11 @@ void runExplain(const ExplainOptions& o) {
         parsePixel(o.pixel, x, y);
     if (o.ray.empty()) checkPixelInImage(x, y, cam.width, cam.height);
     if (o.html == "-") throw CLI::ValidationError("--html", "needs a file name, not stdout");
-    checkOutputPaths({o.json == "-" ? "" : o.json, o.html}, {o.scene.path});
-    for (const std::string* p : {&o.json, &o.html})
+    checkFigureOptions(o);
+    checkOutputPaths({o.json == "-" ? "" : o.json, o.html, o.svg, o.layoutsSvg}, {o.scene.path});
+    for (const std::string* p : {&o.json, &o.html, &o.svg, &o.layoutsSvg})
         if (!p->empty() && *p != "-") checkWritable(*p);
-    const std::vector<OutputLock> locks = lockOutputs({o.json, o.html});
+    const std::vector<OutputLock> locks = lockOutputs({o.json, o.html, o.svg, o.layoutsSvg});
 
     Scene scene = loadScene(o.scene.path, o.scene.loadOptions());
     BuiltScene bs = buildScene(scene, layout, o.scene.layoutOptions());
@@ -103,6 +154,15 @@ void runExplain(const ExplainOptions& o) {
         const std::string text = explainPage(e, bs, o.scene.layoutOptions(), frame, &page);
         out.stage(o.html, text.data(), text.size());
     }
+    std::string svgWhat, layoutsWhat;
+    if (!o.svg.empty()) {
+        const std::string text = svgFigure(o, e, scene, bs, svgWhat);
+        out.stage(o.svg, text.data(), text.size());
+    }
+    if (!o.layoutsSvg.empty()) {
+        const std::string text = layoutsFigure(o, e, scene, bs, layoutsWhat);
+        out.stage(o.layoutsSvg, text.data(), text.size());
+    }
     out.commit();
     if (o.json == "-") {
         writeTextOutput("-", explainJson(e));
@@ -117,6 +177,9 @@ void runExplain(const ExplainOptions& o) {
                     scene.kind == PrimKind::Triangles ? "triangles" : "points",
                     page.reduced ? ", reduced" : "", (unsigned long long)page.cells,
                     (unsigned long long)page.lines);
+    if (!o.svg.empty()) std::printf("wrote   %s (%s)\n", o.svg.c_str(), svgWhat.c_str());
+    if (!o.layoutsSvg.empty())
+        std::printf("wrote   %s (%s)\n", o.layoutsSvg.c_str(), layoutsWhat.c_str());
 }
 
 }  // namespace
@@ -140,6 +203,21 @@ void registerExplain(CLI::App& app) {
     cmd->add_option("--html", o->html,
                     "Write an interactive page (one self-contained file): the model, the cells "
                     "visited, the ray and the steps");
+    cmd->add_option("--svg", o->svg,
+                    "Write a 2D figure for a slide (SVG): the cells the ray tested cut by an axis "
+                    "plane that holds it, numbered in visit order, the primitives it tested, the "
+                    "ray and its hit");
+    cmd->add_option("--svg-plane", o->svgPlane,
+                    "The --svg figure's plane through the ray's origin: xy, xz or yz (default: "
+                    "the one that drops the ray's smallest direction component)");
+    cmd->add_flag("--quadtree", o->quadtree,
+                  "With --svg, for a flat scene (every primitive in one axis plane): the "
+                  "quadtree over that plane (the octree's split rule, --max-depth, --max-prims), "
+                  "each cell's Morton key in base 4, and the ray in the plane (the paper's "
+                  "Figure 1)");
+    cmd->add_option("--layouts-svg", o->layoutsSvg,
+                    "Write one small octree as the linear array, the hash table and the compact "
+                    "records side by side (SVG), with their bytes and one hash lookup's probes");
     cmd->callback([o] { runExplain(*o); });
 }
 
