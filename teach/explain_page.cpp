@@ -175,6 +175,9 @@ html, body { margin: 0; height: 100%; background: #15171f; color: #e8e8ec;
   font: 13px/1.35 system-ui, sans-serif; }
 #app { display: flex; height: 100%; }
 #view { flex: 1 1 55%; position: relative; min-width: 0; }
+#plane-view { position: absolute; inset: 8px; background: #fff; border-radius: 4px;
+  overflow: auto; display: none; }
+#plane-view svg { width: 100%; height: auto; max-height: 100%; }
 #panel { flex: 0 1 45%; max-width: 640px; min-width: 320px; display: flex;
   flex-direction: column; border-left: 1px solid #30333d; overflow: hidden; }
 #head { padding: 8px 10px; border-bottom: 1px solid #30333d; overflow-y: auto; max-height: 62%; }
@@ -201,7 +204,7 @@ label { color: #b4b7c2; margin-right: 10px; }
 </head>
 <body data-octrace="loading">
 <div id="app">
-<div id="view"></div>
+<div id="view"><div id="plane-view"></div></div>
 <div id="panel">
 <div id="head">
 <h1 id="title">@TITLE@</h1>
@@ -224,7 +227,8 @@ title="next step (&#x2192;)">&#x25B6;&#x258F;</button>
 <p><label>tree depth <input type="range" id="depth" min="-1" max="0" value="-1">
 <span id="depth-value">off</span></label></p>
 <p><label><input type="checkbox" id="show-model" checked> model</label>
-<label><input type="checkbox" id="show-missed"> boxes missed, skipped or dropped</label></p>
+<label><input type="checkbox" id="show-missed"> boxes missed, skipped or dropped</label>
+<label><input type="checkbox" id="show-plane"> 2D view</label></p>
 <p>Click a pixel of the image to explain it. Step with the buttons or the arrow keys; hover a
 step to highlight its cell or primitive, click to keep it (the address then names it: #step=N,
 #shadow=N, with #pixel=X,Y). Drag to orbit, scroll to zoom.</p>
@@ -294,6 +298,7 @@ std::string explainPage(const Explanation& e, const BuiltScene& bs, const Layout
     json d = pixelPageData(e, scene, &counts);
     stats.cells = counts.cells;
     stats.lines = counts.lines;
+    addPlaneView(d, e, scene, bs.tree.get());
     d["mesh"] = modelJson(scene, stats, note);
     d["model_note"] = note;
     // The page traces pixels itself when this build has the kernel and the frame is a camera's

@@ -9,6 +9,7 @@
 #include "core/octree/morton.h"
 #include "core/render/film.h"
 #include "teach/colour_map.h"
+#include "teach/svg_view.h"
 #include "teach/teach_error.h"
 
 namespace oct {
@@ -278,6 +279,15 @@ json pixelPageData(const Explanation& e, const Scene& scene, PixelPageCounts* co
     d["summary"] = summaryText(e);
     if (countsOut) *countsOut = counts;
     return d;
+}
+
+void addPlaneView(json& data, const Explanation& e, const Scene& scene, const Octree* tree) {
+    try {
+        data["svg"] = explainSvg(e, scene, tree, "");
+    } catch (const std::exception& ex) {
+        data["svg"] = nullptr;
+        data["svg_error"] = ex.what();
+    }
 }
 
 uint64_t layoutFingerprint(const BuiltScene& bs) {

@@ -30,6 +30,11 @@ struct PixelPageCounts {
 nlohmann::ordered_json pixelPageData(const Explanation& e, const Scene& scene,
                                      PixelPageCounts* counts = nullptr);
 
+// Adds "svg", the 2D view of `octrace explain --svg` for `e` (svg_view.h, the plane of the ray),
+// or "svg_error" when that figure cannot be drawn (its message).
+void addPlaneView(nlohmann::ordered_json& data, const Explanation& e, const Scene& scene,
+                  const Octree* tree);
+
 // FNV-1a (64-bit) over the bytes of every array of the layout's View (forEachArray, in its
 // order), then over the scene's primitives: the page's kernel rebuilds the layout from the
 // embedded scene and refuses to trace unless its fingerprint equals the one octrace wrote.

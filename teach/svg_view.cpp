@@ -204,9 +204,12 @@ PlaneFigure planeFigure(const Explanation& e, const Scene& scene, const Octree* 
     if (e.shadow) f.shadow = segmentOf(*e.shadow, plane, f.map);
     f.hit = e.primary.hit.prim >= 0;
     if (f.hit) {
+        // Named members, not h[i]: Vec3::operator[] indexes past &x, and clang's WebAssembly
+        // build (the explain page) read the wrong coordinates of this temporary through it.
         const Vec3 h = e.primary.ray.org + e.primary.ray.dir * e.primary.hit.t;
-        f.hitU = h[plane.u];
-        f.hitV = h[plane.v];
+        const float axes[3] = {h.x, h.y, h.z};
+        f.hitU = axes[plane.u];
+        f.hitV = axes[plane.v];
     }
     return f;
 }

@@ -23,6 +23,7 @@
 #include "teach/colour_map.h"
 #include "teach/explain.h"
 #include "teach/explain_page_data.h"
+#include "teach/svg_view.h"
 
 namespace {
 
@@ -160,6 +161,7 @@ EMSCRIPTEN_KEEPALIVE const char* octPageExplain(int x, int y) {
         const Explanation e = explainPixel(state->built, state->frame, x, y);
         state->explanation = explainJson(e);
         json out = pixelPageData(e, state->scene);
+        addPlaneView(out, e, state->scene, state->built.tree.get());
         out["ms"] = emscripten_get_now() - t0;
         return answer(out.dump());
     } catch (const std::exception& ex) {

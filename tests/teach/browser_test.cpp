@@ -224,6 +224,15 @@ TEST(ExplainPageInChromium, ItsKernelExplainsAnyPixelAsOctraceExplainDoes) {
             RunResult w = runOctrace(want, dir.path());
             ASSERT_EQ(w.status, 0) << show(w);
             EXPECT_EQ(got["json"].get<std::string>(), w.out) << "pixel " << pixel;
+            // The page's 2D view is `octrace explain --svg`'s figure of that pixel.
+            std::vector<std::string> svg = {
+                "explain", c.scene,   "--size", "64x64", "--accel",
+                c.accel,   "--pixel", pixel,    "--svg", dir.str("view.svg")};
+            svg.insert(svg.end(), c.extra.begin(), c.extra.end());
+            RunResult v = runOctrace(svg, dir.path());
+            ASSERT_EQ(v.status, 0) << show(v);
+            EXPECT_EQ(got["svg"].get<std::string>(), readFile(dir.str("view.svg")))
+                << "pixel " << pixel;
             slowest = std::max(slowest, got["ms"].get<double>());
             ++n;
         }

@@ -158,6 +158,31 @@ TEST(SvgView, PrimitivesTestedAreDrawnAndTheHitMarked) {
     EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
 }
 
+// The hit is where the primary ray's drawn segment ends and its shadow ray starts: one point of
+// the ray, read from the hit's position in the plane's two axes. (Found by the explain page:
+// its WebAssembly build drew the hit elsewhere, reading a temporary Vec3 through operator[],
+// which indexes past &x; the figure now reads named members.)
+TEST(SvgView, TheHitIsWhereThePrimaryRayEnds) {
+    for (const LayoutDesc& layout : layouts())
+        for (auto [px, py] : {std::pair{16, 12}, {12, 10}, {20, 14}}) {
+            const Explained x = explainTeapot(layout, px, py);
+            if (x.e.primary.hit.prim < 0) continue;
+            SCOPED_TRACE(std::string(layout.name) + " " + std::to_string(px) + "," +
+                         std::to_string(py));
+            const PlaneFigure f =
+                planeFigure(x.e, x.scene, x.bs.tree.get(), planeOfRay(x.e.primary.ray));
+            ASSERT_TRUE(f.hit);
+            const Vec3 h = x.e.primary.ray.org + x.e.primary.ray.dir * x.e.primary.hit.t;
+            const float axes[3] = {h.x, h.y, h.z};
+            EXPECT_EQ(f.hitU, axes[f.plane.u]);
+            EXPECT_EQ(f.hitV, axes[f.plane.v]);
+            if (f.primary.endsAtHit) {
+                EXPECT_NEAR(f.primary.u1, f.hitU, 1e-4 * length(x.e.root.extent()));
+                EXPECT_NEAR(f.primary.v1, f.hitV, 1e-4 * length(x.e.root.extent()));
+            }
+        }
+}
+
 TEST(SvgView, ThePlaneDropsTheSmallestDirectionComponent) {
     Ray r{{1, 2, 3}, {0.1f, -0.9f, 0.3f}, 0, INFINITY};
     AxisPlane p = planeOfRay(r);

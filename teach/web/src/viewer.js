@@ -15,7 +15,8 @@
 // <body data-octrace="rendered"> once the first frame is drawn, "error" when anything threw;
 // data-kernel="ready" (or "absent", "failed") once the kernel has loaded; with #test=X,Y;X,Y
 // in the address, each pixel is explained in turn and <pre id="octrace-test"> receives one
-// JSON line per pixel ({x, y, ms, json}: json is the kernel's explain --json text), then
+// JSON line per pixel ({x, y, ms, kernel_ms, json, svg}: json is the kernel's explain --json
+// text, svg its 2D view), then
 // data-test="done".
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -378,6 +379,9 @@ function main(data, kernel) {
         controls.target.set(...d.view.target);
         controls.update();
 
+        const plane = document.getElementById('plane-view');
+        plane.innerHTML = d.svg || '';
+        if (!d.svg) plane.textContent = '2D view: ' + (d.svg_error || 'none');
         document.getElementById('title').textContent = d.title;
         document.title = d.title;
         document.getElementById('summary').textContent = d.summary;
@@ -528,6 +532,10 @@ function main(data, kernel) {
         missedGroup.visible = ev.target.checked;
         render();
     });
+    // The 2D view (`octrace explain --svg`'s figure of the same pixel) over the 3D one.
+    document.getElementById('show-plane').addEventListener('change', (ev) => {
+        document.getElementById('plane-view').style.display = ev.target.checked ? 'block' : 'none';
+    });
     document.getElementById('show-model').addEventListener('change', (ev) => {
         model.visible = ev.target.checked;
         render();
@@ -558,7 +566,8 @@ function main(data, kernel) {
             const t0 = performance.now();
             const d = explainAt(x, y);
             const ms = performance.now() - t0;
-            out.textContent += JSON.stringify({ x, y, ms, kernel_ms: d.ms, json: d.json }) + '\n';
+            out.textContent +=
+                JSON.stringify({ x, y, ms, kernel_ms: d.ms, json: d.json, svg: d.svg }) + '\n';
         }
     }
     document.body.dataset.test = 'done';
