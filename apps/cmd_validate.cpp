@@ -206,7 +206,7 @@ void runValidate(const ValidateCliOptions& o) {
         if (o.regression.empty())
             throw std::runtime_error(
                 "validate needs a SCENE (or --table1, or --regression FILE); see --help");
-        nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 1}};
+        nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 2}};
         addToJson(j, reg);
         if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
         if (!reg.passes())

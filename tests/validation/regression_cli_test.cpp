@@ -56,7 +56,7 @@ TEST_F(RegressionCli, CommittedFilesPass) {
     ASSERT_NO_THROW(j = json::parse(r.out)) << r.out;
     EXPECT_TRUE(j["pass"].get<bool>());
     EXPECT_EQ(j["format"], "octrace-validate-report");
-    EXPECT_EQ(j["version"], 1);
+    EXPECT_EQ(j["version"], 2);  // 2: cost rows in boxes_tested, prims_tested
     EXPECT_TRUE(j["golden"]["pass"].get<bool>());
     EXPECT_TRUE(j["cost_baseline"]["pass"].get<bool>());
     EXPECT_NE(r.err.find("golden "), std::string::npos) << r.err;
