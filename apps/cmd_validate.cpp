@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "apps/cli.h"
+#include "apps/diff_picture.h"
 #include "apps/policy_options.h"
 #include "bench/table1/table1.h"
 #include "core/io/name_list.h"
@@ -18,7 +19,6 @@
 #include "cpu_ref/render_cpu.h"
 #include "validation/regression/artifacts.h"
 #include "validation/regression/regression_run.h"
-#include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 #include "validation/validate.h"
 
@@ -272,7 +272,7 @@ void runValidate(const ValidateCliOptions& o) {
     if (!o.diffImage.empty())
         for (const RunReport& run : rep.runs) {
             std::string path = diffPath(o.diffImage, run, rep.runs.size());
-            writeDiffImage(path, run.film, rep.policy.tTolerance);
+            writeDiffPicture(path, run.film, rep.policy.tTolerance);
             std::fprintf(human, "wrote    %s\n", path.c_str());
         }
     std::fflush(stdout);
