@@ -101,7 +101,7 @@ def test_explain_is_explain_json(teapot, teapot_path, cli, tmp_path):
     cli("explain", teapot_path, "--pixel", "20,12", "--size", "40x30", "--json", tmp_path / "e.json")
     explained = teapot.explain(pixel=(20, 12), size=(40, 30))
     assert explained == json_file(tmp_path / "e.json")
-    assert (explained["format"], explained["version"]) == ("octrace-explain", 1)
+    assert (explained["format"], explained["version"]) == ("octrace-explain", 2)
     ray = "0,0,40,0,0,-1"
     cli("explain", teapot_path, "--ray", ray, "--json", tmp_path / "r.json")
     assert teapot.explain(ray=(0, 0, 40, 0, 0, -1)) == json_file(tmp_path / "r.json")
