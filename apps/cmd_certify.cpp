@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "apps/cli.h"
+#include "apps/diff_picture.h"
 #include "apps/policy_options.h"
 #include "core/io/output_file.h"
 #include "core/io/ray_file.h"
@@ -14,7 +15,6 @@
 #include "validation/rays/hit_files.h"
 #include "validation/rays/ray_manifest.h"
 #include "validation/rays/verdict_files.h"
-#include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 
 namespace oct {
@@ -165,7 +165,7 @@ void runCertify(const CertifyCliOptions& o) {
         writeTextOutput(o.json, j.dump(2) + "\n");
     }
     if (!o.diffImage.empty()) {
-        writeDiffImage(o.diffImage, cameraDiff(rep.result, rays), rep.policy.tTolerance);
+        writeDiffPicture(o.diffImage, cameraDiff(rep.result, rays), rep.policy.tTolerance);
         std::fprintf(human, "wrote    %s\n", o.diffImage.c_str());
     }
     std::fprintf(human,

@@ -22,7 +22,7 @@ struct RenderOptions {
     std::string out, depthOut, primOut, costOut;
     CameraChoice camera;
     bool compareEmbree = false;
-    std::string heatmap = "nodes", heatmapOut, overlayOut;
+    std::string heatmap = "boxes", heatmapOut, overlayOut;
     uint32_t heatmapMax = 0;
     int overlayDepth = -1;
 };
@@ -71,8 +71,9 @@ TeachImages teachImages(const RenderOptions& o, const Scene& scene, const BuiltS
 
     const std::string name = std::filesystem::path(scene.name).filename().string();
     if (!o.heatmapOut.empty())
-        t.heatmap = heatmapImage(film, {parseCostQuantity(o.heatmap, "--heatmap"), o.heatmapMax,
-                                        bs.layout->name, name, buildDetails(bs.tree.get())});
+        t.heatmap = heatmapImage(
+            film, {parseCostQuantity(o.heatmap, "--heatmap"), o.heatmapMax, bs.layout->name, name,
+                   buildDetails(bs.tree.get()), frame.shading.light});
     if (!o.overlayOut.empty()) {
         // Exhaustive tracing builds no octree; the overlay shows the one the layouts would use.
         std::shared_ptr<const Octree> tree =
@@ -85,8 +86,8 @@ TeachImages teachImages(const RenderOptions& o, const Scene& scene, const BuiltS
 
 // Before any heavy work: the teaching options make sense together and with the backend.
 void checkTeachOptions(const RenderOptions& o, const BackendDesc& backend) {
-    parseCostQuantity(o.heatmap, "--heatmap");
-    if (o.heatmapOut.empty() && (o.heatmap != "nodes" || o.heatmapMax > 0))
+    const CostQuantity quantity = parseCostQuantity(o.heatmap, "--heatmap");
+    if (o.heatmapOut.empty() && (quantity != CostQuantity::Nodes || o.heatmapMax > 0))
         throw CLI::ValidationError("--heatmap", "needs --heatmap-out FILE.png to write the map to");
     if (o.overlayOut.empty() && o.overlayDepth >= 0)
         throw CLI::ValidationError("--overlay-depth", "needs --overlay-out FILE.png");
@@ -165,7 +166,7 @@ void runRender(const RenderOptions& o) {
             tested += film.primsTested[i];
         }
         std::printf(
-            "cost    %.1f nodes visited, %.1f primitives tested per pixel (primary + "
+            "cost    %.1f boxes tested, %.1f primitives tested per pixel (primary + "
             "shadow)\n",
             nodes / double(film.pixelCount()), tested / double(film.pixelCount()));
     }
@@ -188,13 +189,14 @@ void registerRender(CLI::App& app) {
     cmd->add_option("--depth", o->depthOut, "Write hit distances t as float32 (H, W) .npy");
     cmd->add_option("--prim", o->primOut, "Write primitive ids as int32 (H, W) .npy (-1: miss)");
     cmd->add_option("--cost", o->costOut,
-                    "Write int32 (H, W, 2) .npy: nodes visited, primitives tested");
+                    "Write int32 (H, W, 2) .npy: boxes tested, primitives tested");
     addCameraOptions(*cmd, o->camera);
     cmd->add_option("--heatmap-out", o->heatmapOut,
                     "Write the per-pixel traversal cost as a labelled colour map (PNG)");
     cmd->add_option("--heatmap", o->heatmap,
-                    "Cost the heat map shows: nodes (node boxes tested) or prims (primitives "
-                    "tested), primary + shadow ray")
+                    "Cost the heat map shows: boxes (boxes tested; 'nodes', its old name, is "
+                    "accepted) or prims (primitives tested), primary + shadow ray. The PNG's "
+                    "pixel x,y (from the top left) is explain's --pixel x,y")
         ->capture_default_str();
     cmd->add_option("--heatmap-max", o->heatmapMax,
                     "Fix the colour scale's top (default: the 99th percentile of the image's "

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "apps/cli.h"
+#include "apps/diff_picture.h"
 #include "apps/policy_options.h"
 #include "bench/table1/table1.h"
 #include "core/io/name_list.h"
@@ -18,7 +19,6 @@
 #include "cpu_ref/render_cpu.h"
 #include "validation/regression/artifacts.h"
 #include "validation/regression/regression_run.h"
-#include "validation/report/diff_image.h"
 #include "validation/report/report.h"
 #include "validation/validate.h"
 
@@ -206,7 +206,7 @@ void runValidate(const ValidateCliOptions& o) {
         if (o.regression.empty())
             throw std::runtime_error(
                 "validate needs a SCENE (or --table1, or --regression FILE); see --help");
-        nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 1}};
+        nlohmann::json j = {{"pass", true}, {"format", "octrace-validate-report"}, {"version", 2}};
         addToJson(j, reg);
         if (!o.json.empty()) writeTextOutput(o.json, j.dump(2) + "\n");
         if (!reg.passes())
@@ -272,7 +272,7 @@ void runValidate(const ValidateCliOptions& o) {
     if (!o.diffImage.empty())
         for (const RunReport& run : rep.runs) {
             std::string path = diffPath(o.diffImage, run, rep.runs.size());
-            writeDiffImage(path, run.film, rep.policy.tTolerance);
+            writeDiffPicture(path, run.film, rep.policy.tTolerance);
             std::fprintf(human, "wrote    %s\n", path.c_str());
         }
     std::fflush(stdout);

@@ -5,6 +5,10 @@ only, so it also runs under a Python without matplotlib.
 
 A results folder holds bench.csv (one row per case) and bench.json (the same rows plus the
 machine and the configuration); optionally micro.json from octrace_micro --benchmark_out.
+
+Format octrace-bench/2 names the boxes tested boxes_per_pixel and boxes_per_ray (the words of
+docs/TEACHING.md, "Words"); format 1 (the committed results under bench/results/) named them
+nodes_per_pixel and nodes_per_ray. read_csv renames the old columns, so both read the same.
 """
 
 import csv
@@ -19,9 +23,12 @@ INT_FIELDS = {
 }
 FLOAT_FIELDS = {
     "load_s", "tree_build_s", "convert_s", "build_s", "frame_s_median", "frame_s_min",
-    "frame_s_max", "upload_s", "mrays_per_s", "ratio_to_embree", "nodes_per_pixel",
-    "prims_per_pixel", "nodes_per_ray", "prims_per_ray",
+    "frame_s_max", "upload_s", "mrays_per_s", "ratio_to_embree", "boxes_per_pixel",
+    "prims_per_pixel", "boxes_per_ray", "prims_per_ray",
 }
+
+# Format 1's column names and their format 2 names.
+RENAMED = {"nodes_per_pixel": "boxes_per_pixel", "nodes_per_ray": "boxes_per_ray"}
 
 EMBREE = "embree-bvh"
 
@@ -121,7 +128,8 @@ def parse_value(key, text):
 
 def read_csv(path):
     with open(path, newline="") as f:
-        return [{k: parse_value(k, v) for k, v in row.items()} for row in csv.DictReader(f)]
+        return [{RENAMED.get(k, k): parse_value(RENAMED.get(k, k), v) for k, v in row.items()}
+                for row in csv.DictReader(f)]
 
 
 def series(run, layout, backend, scene_type="cloud"):

@@ -347,13 +347,13 @@ def cost_table(run, backend):
         for layout in run.layouts():
             r = run.cloud_row(n, layout, backend)
             if r and r["status"] == "ok":
-                line.append("%.1f / %.1f" % (r["nodes_per_pixel"] or 0, r["prims_per_pixel"]))
+                line.append("%.1f / %.1f" % (r["boxes_per_pixel"] or 0, r["prims_per_pixel"]))
             else:
                 line.append("-")
         rows.append(line)
     if not rows:
         return None
-    return table(["N"] + ["%s nodes / prims" % l for l in run.layouts()], rows)
+    return table(["N"] + ["%s boxes / prims" % l for l in run.layouts()], rows)
 
 
 def build_table(run, backend):
@@ -476,7 +476,7 @@ def run_section(run, doc_dir, figures, title):
                     "Embree's on the same rays, same shading.", "", t, ""]
         t = cost_table(run, backend)
         if t:
-            out += ["Work per pixel (primary + shadow ray): nodes visited / primitives "
+            out += ["Work per pixel (primary + shadow ray): boxes tested / primitives "
                     "tested.", "", t, ""]
         fig("cost_" + backend, "traversal cost per pixel")
         out += ["### Meshes (%s)" % b, ""]

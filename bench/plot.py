@@ -10,7 +10,7 @@ RESULTS_DIR/figures), one set per backend that ran our layouts (cpu, cuda):
   crossover_<b>.png           exhaustive vs the two octrees, the crossover marked
   meshes_<b>.png              the mesh comparison as grouped bars (log scale)
   memory.png                  layout bytes vs points (linear and hash)
-  cost_<b>.png                nodes visited and primitives tested per pixel vs points
+  cost_<b>.png                boxes tested and primitives tested per pixel vs points
 Run with Debian's python3 (/usr/bin/python3), which has python3-matplotlib.
 """
 
@@ -255,7 +255,7 @@ def plot_memory(run, path):
 def plot_cost(run, backend, path):
     fig, axes = plt.subplots(1, 2, figsize=(9.6, 4.0))
     drawn = False
-    for key, ax, title in (("nodes_per_pixel", axes[0], "nodes visited per pixel"),
+    for key, ax, title in (("boxes_per_pixel", axes[0], "boxes tested per pixel"),
                            ("prims_per_pixel", axes[1], "primitives tested per pixel")):
         for layout in run.layouts():
             rows = sorted(run.select(scene_type="cloud", layout=layout, backend=backend,

@@ -194,7 +194,7 @@ public:
         prim.allocate(batch.count, "the primitive ids");
         RayBatchView dev{rays.get(), t.get(), prim.get(), batch.count};
         if (batch.nodes) {
-            nodes.allocate(batch.count, "the nodes visited per ray");
+            nodes.allocate(batch.count, "the boxes tested per ray");
             dev.nodes = nodes.get();
         }
         if (batch.primsTested) {

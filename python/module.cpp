@@ -296,8 +296,9 @@ py::dict castRays(SceneObject& s, const py::handle& raysArg, const std::string& 
     }
     py::dict out("t_hit"_a = t, "primitive_ids"_a = prim, "seconds"_a = seconds);
     if (cost) {
-        out["nodes"] = nodes;
-        out["prims"] = tested;
+        // The words of docs/TEACHING.md ("Words"); earlier builds named them "nodes" and "prims".
+        out["boxes_tested"] = nodes;
+        out["prims_tested"] = tested;
     }
     return out;
 }
@@ -657,8 +658,8 @@ Args:
     threads: OpenMP threads (None: OMP_NUM_THREADS or every core).
 
 Returns a dict: "t_hit" float32 (N,) (+inf on a miss) and "primitive_ids" int32 (N,) (-1 on a
-miss), bit for bit what `octrace trace` writes for the same rows; "nodes" and "prims" uint32
-(N,), the node boxes and primitives each ray tested (not for Embree, which counts none); and
+miss), bit for bit what `octrace trace` writes for the same rows; "boxes_tested" and
+"prims_tested" uint32 (N,), the node boxes and primitives each ray tested (not for Embree, which counts none); and
 "seconds", the trace's time. The GIL is released while tracing.)");
     scene.def(
         "render", &render, py::kw_only(), "size"_a = std::pair<int, int>(512, 512),
@@ -673,7 +674,7 @@ Args:
     eye, target, up, light: (x, y, z) or None for render's framing rule; fov: vertical degrees.
 
 Returns a dict: "image" uint8 (H, W, 3), the pixels of the PNG render writes; "t" float32 (H, W)
-and "prim" int32 (H, W) (render --depth, --prim); "cost" int32 (H, W, 2), nodes visited and
+and "prim" int32 (H, W) (render --depth, --prim); "cost" int32 (H, W, 2), boxes tested and
 primitives tested, primary + shadow ray (render --cost; not for Embree); "shadow" uint8 (H, W);
 "seconds".)");
     scene.def(

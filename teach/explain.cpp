@@ -100,7 +100,7 @@ StepTotals countSteps(const std::vector<ExplainStep>& steps) {
                 ++t.skipped;
                 break;
             case StepEvent::Pop:
-                t.visited += s.hit;
+                t.entered += s.hit;
                 t.dropped += !s.hit;
                 break;
             case StepEvent::Prim:
@@ -431,12 +431,12 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
         const ExplainStep& s = st[i];
         switch (s.event) {
             case StepEvent::Box: {
-                std::string t = stepNo(i) + "  test   " + keyCol(s.key) + " depth " +
+                std::string t = stepNo(i) + "  box    " + keyCol(s.key) + " depth " +
                                 std::to_string(s.depth) + "  box " + boxText(s.box) + "  ";
                 if (s.hit)
                     t += "hit, t " + num(s.t0) + " .. " + num(s.t1);
                 else if (s.why == SkipReason::BeyondHit)
-                    t += "culled: entered at t " + num(s.t0) + ", beyond the closest hit t " +
+                    t += "culled: met from t " + num(s.t0) + ", beyond the closest hit t " +
                          num(s.bestT);
                 else
                     t += "missed";
@@ -451,9 +451,10 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
                 break;
             case StepEvent::Pop:
                 add(i + 1, s.key, -1,
-                    stepNo(i) + (s.hit ? "  visit  " : "  drop   ") + keyCol(s.key) +
-                        " entered at t " + num(s.t0) +
-                        (s.hit ? "" : ", beyond the closest hit t " + num(s.bestT)));
+                    stepNo(i) + (s.hit ? "  enter  " : "  drop   ") + keyCol(s.key) +
+                        (s.hit ? " at t " + num(s.t0)
+                               : " not entered: its box starts at t " + num(s.t0) +
+                                     ", beyond the closest hit t " + num(s.bestT)));
                 ++i;
                 break;
             case StepEvent::Probe: {
@@ -519,11 +520,12 @@ std::vector<ExplainLine> explainLines(const Explanation& e, int rayIndex) {
 namespace {
 
 std::string totalsText(const StepTotals& t) {
-    std::string s = std::to_string(t.boxTests) + " node boxes tested (" +
-                    std::to_string(t.boxesHit) + " met), " + std::to_string(t.primTests) +
-                    " primitives tested (" + std::to_string(t.primHits) + " hit); " +
-                    std::to_string(t.visited) + " nodes visited, " + std::to_string(t.dropped) +
-                    " dropped, " + std::to_string(t.skipped) + " children skipped";
+    // The words of docs/TEACHING.md ("Words"): boxes tested, nodes entered, primitives tested.
+    std::string s = std::to_string(t.boxTests) + " boxes tested (" + std::to_string(t.boxesHit) +
+                    " met), " + std::to_string(t.primTests) + " primitives tested (" +
+                    std::to_string(t.primHits) + " hit); " + std::to_string(t.entered) +
+                    " nodes entered, " + std::to_string(t.dropped) + " dropped, " +
+                    std::to_string(t.skipped) + " children skipped";
     if (t.probes)
         s += "; " + std::to_string(t.probes) + " hash probes in " + std::to_string(t.lookups) +
              " lookups (" + fmt("%.2f", double(t.probes) / double(t.lookups)) + " a lookup)";
@@ -586,11 +588,10 @@ std::string explainText(const Explanation& e) {
         out += "no shadow ray: the surface faces away from the light " + vec(e.light) + "\n\n";
     }
     out += std::string(e.pixelMode ? "pixel" : "ray") + " cost  " +
-           std::to_string(e.cost.nodesVisited) + " nodes visited, " +
+           std::to_string(e.cost.nodesVisited) + " boxes tested, " +
            std::to_string(e.cost.primsTested) +
            " primitives tested (primary + shadow): the kernel's count, " +
-           (e.pixelMode ? "the Film's nodes and primsTested for this pixel" : "as octrace trace") +
-           "\n";
+           (e.pixelMode ? "the heat map's value for this pixel" : "as octrace trace") + "\n";
     return out;
 }
 
@@ -600,7 +601,10 @@ std::string explainJson(const Explanation& e) {
     auto tnum = [](float t) { return std::isfinite(t) ? json(t) : json(nullptr); };
     json j;
     j["format"] = "octrace-explain";  // the schema, so a reader can refuse one it does not know
-    j["version"] = 1;
+    // Version 2: the words of docs/TEACHING.md ("Words"); version 1 had the events "pop" (with
+    // "visited") and the keys "nodes", "visited", "prims" for boxes tested, nodes entered and
+    // primitives tested.
+    j["version"] = 2;
     j["scene"] = e.scene;
     j["primitives"] = e.primitives;
     j["kind"] = primKindName(e.kind);
@@ -648,10 +652,9 @@ std::string explainJson(const Explanation& e) {
                     js["why"] = skipReasonKey(s.why);
                     break;
                 case StepEvent::Pop:
-                    js["event"] = "pop";
+                    js["event"] = s.hit ? "enter" : "drop";  // the text's words
                     js["key"] = keyOctal(s.key);
                     js["t_enter"] = tnum(s.t0);
-                    js["visited"] = s.hit;
                     if (!s.hit) {
                         js["why"] = "beyond_hit";
                         js["closest_t"] = tnum(s.bestT);
@@ -687,16 +690,17 @@ std::string explainJson(const Explanation& e) {
                                {"closest_t", r.miss->t},
                                {"closest_point", v3(r.miss->point)}};
         const StepTotals& t = r.totals;
-        jr["totals"] = {
-            {"nodes", t.boxTests},     {"boxes_met", t.boxesHit}, {"prims", t.primTests},
-            {"prim_hits", t.primHits}, {"visited", t.visited},    {"dropped", t.dropped},
-            {"skipped", t.skipped},    {"hash_probes", t.probes}, {"hash_lookups", t.lookups}};
+        jr["totals"] = {{"boxes_tested", t.boxTests},    {"boxes_met", t.boxesHit},
+                        {"prims_tested", t.primTests},   {"prim_hits", t.primHits},
+                        {"nodes_entered", t.entered},    {"nodes_dropped", t.dropped},
+                        {"children_skipped", t.skipped}, {"hash_probes", t.probes},
+                        {"hash_lookups", t.lookups}};
         rays.push_back(std::move(jr));
     }
     j["rays"] = std::move(rays);
     j["shadow"] = e.shadowState == kOccluded ? "occluded" : e.shadowState == kLit ? "lit" : "none";
     if (e.pixelMode) j["rgb"] = {e.rgb[0], e.rgb[1], e.rgb[2]};
-    j["cost"] = {{"nodes", e.cost.nodesVisited}, {"prims", e.cost.primsTested}};
+    j["cost"] = {{"boxes_tested", e.cost.nodesVisited}, {"prims_tested", e.cost.primsTested}};
     return j.dump(1) + "\n";
 }
 

@@ -20,7 +20,7 @@ namespace oct {
 enum class StepEvent : uint8_t {
     Box,    // a node's box tested against the ray (boxTested)
     Skip,   // a child not tested: empty leaf or absent (childSkipped)
-    Pop,    // a node taken from the stack, visited or dropped (nodePopped)
+    Pop,    // a node taken from the stack, entered or dropped (nodePopped)
     Prim,   // a primitive tested (primTested)
     Probe,  // one slot of a hash bucket looked at (hashProbe)
 };
@@ -28,7 +28,7 @@ enum class StepEvent : uint8_t {
 // One observer call. Fields not listed for an event are 0.
 struct ExplainStep {
     StepEvent event = StepEvent::Box;
-    // Box: the box was met; Pop: visited (false: dropped); Prim: hit; Probe: the slot held key.
+    // Box: the box was met; Pop: entered (false: dropped); Prim: hit; Probe: the slot held key.
     bool hit = false;
     // Box missed: Missed, or BeyondHit when the ray's whole segment meets the box but not the
     // part before the closest hit so far; Pop dropped: BeyondHit; Skip: the traversal's reason.
@@ -64,8 +64,8 @@ struct StepRecorder {
 // (nodesVisited, primsTested) counted from the steps.
 struct StepTotals {
     uint64_t boxTests = 0, boxesHit = 0, primTests = 0, primHits = 0;
-    uint64_t visited = 0, dropped = 0, skipped = 0;
-    uint64_t probes = 0, lookups = 0;  // hash slots looked at; lookups they served
+    uint64_t entered = 0, dropped = 0, skipped = 0;  // nodes entered, dropped; children skipped
+    uint64_t probes = 0, lookups = 0;                // hash slots looked at; lookups they served
 };
 StepTotals countSteps(const std::vector<ExplainStep>& steps);
 

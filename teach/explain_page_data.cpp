@@ -175,7 +175,7 @@ std::string summaryText(const Explanation& e) {
            (e.shadowState == kOccluded ? ", in shadow"
             : e.shadowState == kLit    ? ", lit"
                                        : "") +
-           ". Cost: " + std::to_string(boxes) + " node boxes tested, " + std::to_string(prims) +
+           ". Cost: " + std::to_string(boxes) + " boxes tested, " + std::to_string(prims) +
            " primitives tested" +
            (probes ? ", " + std::to_string(probes) + " hash probes" : std::string()) +
            " (primary + shadow ray).";

@@ -9,17 +9,24 @@
 namespace oct {
 
 CostQuantity parseCostQuantity(const std::string& text, const std::string& option) {
-    if (text == "nodes") return CostQuantity::Nodes;
+    // "nodes" was the name of boxes tested before the words of docs/TEACHING.md ("Words").
+    if (text == "boxes" || text == "nodes") return CostQuantity::Nodes;
     if (text == "prims") return CostQuantity::Prims;
     throw TeachError(option + " '" + text +
-                     "' names no cost: nodes (node boxes tested) or prims (primitives tested)");
+                     "' names no cost: boxes (boxes tested) or prims (primitives tested)");
 }
 
 const char* costQuantityName(CostQuantity q) {
-    return q == CostQuantity::Nodes ? "nodes" : "prims";
+    return q == CostQuantity::Nodes ? "boxes" : "prims";
 }
 
 namespace {
+
+std::string point(Vec3 p) {
+    char b[96];
+    std::snprintf(b, sizeof b, "(%g, %g, %g)", p.x, p.y, p.z);
+    return b;
+}
 
 const std::vector<uint32_t>& costArray(const Film& film, CostQuantity q) {
     return q == CostQuantity::Nodes ? film.nodes : film.primsTested;
@@ -45,18 +52,7 @@ CostStats costStats(const Film& film, CostQuantity q, uint32_t scaleMax) {
     return s;
 }
 
-RgbImage heatmapImage(const Film& film, const HeatmapSpec& spec, CostStats* statsOut) {
-    const CostStats s = costStats(film, spec.quantity, spec.scaleMax);
-    const std::vector<uint32_t>& v = costArray(film, spec.quantity);
-    RgbImage picture(film.width, film.height, {0, 0, 0});
-    for (int y = 0; y < film.height; ++y)
-        for (int x = 0; x < film.width; ++x) {
-            const uint32_t c = v[size_t(y) * film.width + x];
-            // An all-zero image (exhaustive tracing visits no nodes) stays at the bottom colour.
-            const double u = s.scaleMax > 0 ? double(c) / double(s.scaleMax) : 0.0;
-            picture.set(x, y, mapColour(ColourMap::Inferno, u));
-        }
-
+Legend heatmapLegend(const Film& film, const HeatmapSpec& spec, const CostStats& s) {
     Legend legend;
     legend.title = spec.quantity == CostQuantity::Nodes ? "Node boxes tested per pixel"
                                                         : "Primitives tested per pixel";
@@ -64,6 +60,8 @@ RgbImage heatmapImage(const Film& film, const HeatmapSpec& spec, CostStats* stat
                               std::to_string(film.width) + "x" + std::to_string(film.height) +
                               " | primary + shadow ray");
     if (!spec.details.empty()) legend.subtitle.push_back(spec.details);
+    // The shadow ray's cost depends on where the light is (a side light leaves dark patches).
+    if (spec.light) legend.subtitle.push_back("light at " + point(*spec.light));
     legend.barMap = ColourMap::Inferno;
     legend.barLow = "0";
     legend.barMid = std::to_string(s.scaleMax / 2);
@@ -77,8 +75,25 @@ RgbImage heatmapImage(const Film& film, const HeatmapSpec& spec, CostStats* stat
         legend.notes.push_back(line);
     }
     if (s.max == 0) legend.notes.push_back("every pixel is 0: this layout has no nodes to visit");
+    legend.notes.push_back(
+        "pixel x,y of this PNG (from the top left) is octrace explain's "
+        "--pixel x,y");
+    return legend;
+}
+
+RgbImage heatmapImage(const Film& film, const HeatmapSpec& spec, CostStats* statsOut) {
+    const CostStats s = costStats(film, spec.quantity, spec.scaleMax);
+    const std::vector<uint32_t>& v = costArray(film, spec.quantity);
+    RgbImage picture(film.width, film.height, {0, 0, 0});
+    for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) {
+            const uint32_t c = v[size_t(y) * film.width + x];
+            // An all-zero image (exhaustive tracing visits no nodes) stays at the bottom colour.
+            const double u = s.scaleMax > 0 ? double(c) / double(s.scaleMax) : 0.0;
+            picture.set(x, y, mapColour(ColourMap::Inferno, u));
+        }
     if (statsOut) *statsOut = s;
-    return withLegend(picture, legend);
+    return withLegend(picture, heatmapLegend(film, spec, s));
 }
 
 }  // namespace oct

@@ -58,7 +58,25 @@ RgbImage withLegend(const RgbImage& picture, const Legend& legend) {
     const bool bar = !legend.barLow.empty();
     const int barHeight = bar ? 10 * scale : 0;
     const int labelScale = scale;
-    const int swatchHeight = legend.swatches.empty() ? 0 : textHeight(labelScale) + pad;
+    // The swatches' rows: each swatch's x, and the row it is on.
+    const int box = textHeight(labelScale) - 2 * labelScale;
+    const int swatchStart =
+        pad +
+        (legend.swatchPrefix.empty() ? 0 : textWidth(legend.swatchPrefix, labelScale) + 2 * pad);
+    std::vector<std::pair<int, int>> swatchAt;  // (x, row)
+    int rows = 0;
+    for (int i = 0, x = swatchStart; i < int(legend.swatches.size()); ++i) {
+        const int w =
+            box + labelScale * 3 + textWidth(legend.swatches[i].second, labelScale) + 2 * pad;
+        if (x + w > width && x > swatchStart) {
+            x = swatchStart;
+            ++rows;
+        }
+        swatchAt.push_back({x, rows});
+        x += w;
+    }
+    const int swatchRow = textHeight(labelScale) + pad;
+    const int swatchHeight = legend.swatches.empty() ? 0 : (rows + 1) * swatchRow;
 
     int band = pad;
     for (const Line& l : top) band += textHeight(l.scale);
@@ -68,7 +86,7 @@ RgbImage withLegend(const RgbImage& picture, const Legend& legend) {
     band += pad;
 
     RgbImage out(width, picture.height + band, kBand);
-    out.paste(picture, (width - picture.width) / 2, 0);
+    out.paste(picture, 0, 0);  // top left: PNG pixel (x, y) is the frame's pixel (x, y)
     int y = picture.height + pad;
     for (const Line& l : top) {
         drawText(out, pad, y, l.text, l.colour, l.scale);
@@ -94,18 +112,14 @@ RgbImage withLegend(const RgbImage& picture, const Legend& legend) {
     }
     if (swatchHeight) {
         y += pad;
-        int x = pad;
-        if (!legend.swatchPrefix.empty()) {
-            drawText(out, x, y, legend.swatchPrefix, kInk, labelScale);
-            x += textWidth(legend.swatchPrefix, labelScale) + 2 * pad;
-        }
-        const int box = textHeight(labelScale) - 2 * labelScale;
-        for (const auto& [colour, label] : legend.swatches) {
-            const int w = box + labelScale * 3 + textWidth(label, labelScale) + 2 * pad;
-            if (x + w > width) break;  // no room: the row is cut, never wrapped over the notes
-            out.fillRect(x, y, x + box, y + box, colour);
-            drawText(out, x + box + 3 * labelScale, y, label, kInk, labelScale);
-            x += w;
+        if (!legend.swatchPrefix.empty())
+            drawText(out, pad, y, legend.swatchPrefix, kInk, labelScale);
+        for (size_t i = 0; i < legend.swatches.size(); ++i) {
+            const auto& [colour, label] = legend.swatches[i];
+            const auto [x, row] = swatchAt[i];
+            const int sy = y + row * swatchRow;
+            out.fillRect(x, sy, x + box, sy + box, colour);
+            drawText(out, x + box + 3 * labelScale, sy, label, kInk, labelScale);
         }
         y += swatchHeight;
     }

@@ -16,8 +16,8 @@ struct Legend {
     // A continuous colour bar from `barLow` (left) to `barHigh` (right), when barLow is set.
     ColourMap barMap = ColourMap::Inferno;
     std::string barLow, barMid, barHigh;
-    // Discrete swatches (colour, label) in one row after `swatchPrefix`, when not empty; a row
-    // too long for the band is cut, so labels should be short.
+    // Discrete swatches (colour, label) in rows after `swatchPrefix`, when not empty; a row too
+    // long for the band continues on the next one.
     std::string swatchPrefix;
     std::vector<std::pair<Rgb8, std::string>> swatches;
     std::vector<std::string> notes;  // statistics and caveats, after the bar
@@ -27,7 +27,9 @@ struct Legend {
 // label; the picture is centred above a wider band.
 constexpr int kMinLegendWidth = 384;
 
-// The picture with the legend band appended below it. Lines wrap at spaces.
+// The picture with the legend band appended below it. Lines wrap at spaces. The picture keeps
+// the top-left corner (a wider band extends to its right), so a pixel read off the PNG is the
+// frame's pixel: the one `octrace explain --pixel x,y` traces.
 RgbImage withLegend(const RgbImage& picture, const Legend& legend);
 
 }  // namespace oct

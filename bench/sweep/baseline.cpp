@@ -327,11 +327,11 @@ std::string humanSummary(const BaselineReport& r) {
         return c ? fmt(form, (*c).*f) : std::string("-");
     };
     std::string s = "baseline " + r.file + ": time = frame / Embree's frame (fails above x" +
-                    fmt("%.2f", r.rule.timeFactor) + "), counts = nodes and prims per pixel " +
+                    fmt("%.2f", r.rule.timeFactor) + "), counts = boxes and prims per pixel " +
                     "(fail above " + pct(r.rule.countTolerance) + ")\n";
     char line[512];
     std::snprintf(line, sizeof line, "%-18s %-10s %-6s %7s %7s %6s %8s %8s %8s %8s  %s\n", "scene",
-                  "layout", "back", "x_embr", "was", "change", "nodes/px", "was", "prims/px", "was",
+                  "layout", "back", "x_embr", "was", "change", "boxes/px", "was", "prims/px", "was",
                   "verdict");
     s += line;
     for (const CaseComparison& c : r.cases) {

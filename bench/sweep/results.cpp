@@ -77,9 +77,10 @@ json rowJson(const Row& r) {
             {"octree_nodes", optJson(r.octreeNodes)},
             {"octree_depth", optJson(r.octreeDepth)},
             {"octree_faces", optJson(r.octreeFaces)},
-            {"nodes_per_pixel", optJson(r.nodesPerPixel)},
+            // boxes tested (docs/TEACHING.md, "Words"); format 1 named them nodes_per_*.
+            {"boxes_per_pixel", optJson(r.nodesPerPixel)},
             {"prims_per_pixel", optJson(r.primsPerPixel)},
-            {"nodes_per_ray", optJson(r.nodesPerRay)},
+            {"boxes_per_ray", optJson(r.nodesPerRay)},
             {"prims_per_ray", optJson(r.primsPerRay)},
             {"width", r.width},
             {"height", r.height},
@@ -91,7 +92,7 @@ void writeResults(const fs::path& dir, const json& machine, const json& config,
                   const std::vector<Row>& rows, bool complete) {
     json all = json::array();
     for (const Row& r : rows) all.push_back(rowJson(r));
-    json doc = {{"format", "octrace-bench/1"},
+    json doc = {{"format", "octrace-bench/2"},  // 2: boxes_per_* (1: nodes_per_*)
                 {"complete", complete},
                 {"machine", machine},
                 {"config", config},

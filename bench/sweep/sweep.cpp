@@ -139,7 +139,7 @@ private:
     void printHeader() {
         std::printf("%-22s %9s %-10s %-6s %8s %10s %8s %8s %11s %8s %9s  %s\n", "scene", "prims",
                     "layout", "back", "build_s", "frame_ms", "Mrays/s", "x_embree", "bytes",
-                    "nodes/px", "prims/px", "status");
+                    "boxes/px", "prims/px", "status");
         std::fflush(stdout);
     }
 

@@ -20,7 +20,7 @@ struct FilmView {
     uint8_t* rgb;           // 3 bytes per pixel, sRGB-agnostic 8-bit colour
     float* t;               // closest hit distance along the unit primary ray, +inf on a miss
     int32_t* prim;          // primitive id of the closest hit, -1 on a miss
-    uint32_t* nodes;        // nodes visited by the primary and the shadow ray
+    uint32_t* nodes;        // boxes tested by the primary and the shadow ray
     uint32_t* primsTested;  // primitives tested by the primary and the shadow ray
     uint8_t* shadow;        // kNoShadowRay, kLit or kOccluded
     int width;
@@ -46,7 +46,7 @@ struct Film {
 };
 
 // The per-pixel cost as `octrace render --cost` writes it and the Python module's render()
-// returns it: (H, W, 2) int32, nodes visited then primitives tested (primary + shadow ray).
+// returns it: (H, W, 2) int32, boxes tested then primitives tested (primary + shadow ray).
 std::vector<int32_t> costArray(const Film& film);
 
 }  // namespace oct

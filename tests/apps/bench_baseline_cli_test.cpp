@@ -98,7 +98,7 @@ TEST_F(BenchBaselineCli, UpdateWritesTheFileAndACheckOfItPasses) {
                 row["backend"] != c["backend"])
                 continue;
             found = true;
-            EXPECT_EQ(row["nodes_per_pixel"], c["nodes_per_pixel"]) << c.dump();
+            EXPECT_EQ(row["boxes_per_pixel"], c["nodes_per_pixel"]) << c.dump();  // results v2
             EXPECT_EQ(row["prims_per_pixel"], c["prims_per_pixel"]) << c.dump();
         }
         EXPECT_TRUE(found) << c.dump();

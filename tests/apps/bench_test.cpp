@@ -38,7 +38,7 @@ const std::vector<std::string> kFields = {
     "frame_s_median",  "frame_s_min",     "frame_s_max",   "upload_s",
     "mrays_per_s",     "ratio_to_embree", "primary_rays",  "shadow_rays",
     "layout_bytes",    "octree_nodes",    "octree_depth",  "octree_faces",
-    "nodes_per_pixel", "prims_per_pixel", "nodes_per_ray", "prims_per_ray",
+    "boxes_per_pixel", "prims_per_pixel", "boxes_per_ray", "prims_per_ray",
     "width",           "height",          "warmup",        "repeats"};
 
 fs::path freshDir(const std::string& name) {
@@ -90,7 +90,7 @@ TEST(BenchCommand, QuickSweepWritesEveryFieldAndCase) {
     ASSERT_TRUE(fs::exists(dir / "out" / "bench.json")) << log;
 
     json doc = octtest::readJson<json>(dir / "out" / "bench.json");
-    EXPECT_EQ(doc["format"], "octrace-bench/1");
+    EXPECT_EQ(doc["format"], "octrace-bench/2");
     EXPECT_EQ(doc["complete"], true);
     for (const char* k :
          {"cpu_model", "logical_cores", "omp_threads", "memory_bytes", "os", "compiler", "build",
@@ -129,7 +129,7 @@ TEST(BenchCommand, QuickSweepWritesEveryFieldAndCase) {
             ASSERT_EQ((*r)["status"], "ok") << r->dump();
             for (const char* k :
                  {"build_s", "frame_s_median", "frame_s_min", "frame_s_max", "mrays_per_s",
-                  "ratio_to_embree", "nodes_per_pixel", "prims_per_pixel", "layout_bytes"})
+                  "ratio_to_embree", "boxes_per_pixel", "prims_per_pixel", "layout_bytes"})
                 EXPECT_TRUE((*r)[k].is_number()) << s << " " << layout << " " << k;
             EXPECT_EQ((*r)["primary_rays"], (*r)["width"].get<int>() * (*r)["height"].get<int>());
             EXPECT_EQ((*r)["primary_rays"], (*e)["primary_rays"]) << "the same rays as Embree";

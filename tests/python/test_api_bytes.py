@@ -40,8 +40,8 @@ def test_cast_rays_is_what_octrace_trace_writes(teapot, teapot_path, teapot_rays
     hits = got["primitive_ids"] >= 0
     assert hits.any() and (~hits).any()
     # The cost is counted per ray: every ray tests the root box at least, a hit a primitive.
-    assert got["nodes"].dtype == np.uint32 and got["prims"].dtype == np.uint32
-    assert (got["prims"][hits] > 0).all()
+    assert got["boxes_tested"].dtype == np.uint32 and got["prims_tested"].dtype == np.uint32
+    assert (got["prims_tested"][hits] > 0).all()
 
 
 def test_embree_through_the_module_is_embree_through_trace(teapot, teapot_path, teapot_rays, cli):
@@ -50,7 +50,7 @@ def test_embree_through_the_module_is_embree_through_trace(teapot, teapot_path, 
     got = teapot.cast_rays(rays, backend="embree")
     assert got["t_hit"].tobytes() == npy_data(d / "embree.t.npy").tobytes()
     assert got["primitive_ids"].tobytes() == npy_data(d / "embree.prim.npy").tobytes()
-    assert "nodes" not in got  # Embree counts no traversal cost
+    assert "boxes_tested" not in got  # Embree counts no traversal cost
 
 
 def test_six_column_rays_are_rays_from_zero_to_infinity(teapot, teapot_rays):
@@ -101,7 +101,7 @@ def test_explain_is_explain_json(teapot, teapot_path, cli, tmp_path):
     cli("explain", teapot_path, "--pixel", "20,12", "--size", "40x30", "--json", tmp_path / "e.json")
     explained = teapot.explain(pixel=(20, 12), size=(40, 30))
     assert explained == json_file(tmp_path / "e.json")
-    assert (explained["format"], explained["version"]) == ("octrace-explain", 1)
+    assert (explained["format"], explained["version"]) == ("octrace-explain", 2)
     ray = "0,0,40,0,0,-1"
     cli("explain", teapot_path, "--ray", ray, "--json", tmp_path / "r.json")
     assert teapot.explain(ray=(0, 0, 40, 0, 0, -1)) == json_file(tmp_path / "r.json")

@@ -44,8 +44,8 @@ TEST(ExplainCli, CostsEqualRenderCostForEveryLayout) {
             ASSERT_EQ(e.status, 0) << show(e);
             const nlohmann::json j = nlohmann::json::parse(e.out);
             const size_t i = size_t(y) * 24 + x;
-            EXPECT_EQ(j["cost"]["nodes"].get<int64_t>(), c[2 * i]) << x << "," << y;
-            EXPECT_EQ(j["cost"]["prims"].get<int64_t>(), c[2 * i + 1]) << x << "," << y;
+            EXPECT_EQ(j["cost"]["boxes_tested"].get<int64_t>(), c[2 * i]) << x << "," << y;
+            EXPECT_EQ(j["cost"]["prims_tested"].get<int64_t>(), c[2 * i + 1]) << x << "," << y;
         }
     }
 }
@@ -55,7 +55,9 @@ TEST(ExplainCli, TextNamesTheStepsTheHitAndTheCost) {
     RunResult r = runOctrace({"explain", kTeapot, "--size", "32x32"}, dir.path());
     ASSERT_EQ(r.status, 0) << show(r);
     EXPECT_NE(r.out.find("pixel (16, 16) of 32x32"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find("  visit  1 "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("  box    1 "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("  enter  1 "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" nodes entered, "), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("hit   primitive"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("pixel cost"), std::string::npos) << r.out;
 }

@@ -292,20 +292,30 @@ TEST(ExplainOutput, JsonHoldsEveryStepAndTheKernelsCost) {
         EXPECT_EQ(j["layout"], layout.name);
         ASSERT_EQ(j["rays"][0]["steps"].size(), e.primary.steps.size());
         EXPECT_EQ(j["rays"][0]["hit"]["prim"], e.primary.hit.prim);
-        EXPECT_EQ(j["cost"]["nodes"], e.cost.nodesVisited);
-        EXPECT_EQ(j["cost"]["prims"], e.cost.primsTested);
-        uint64_t nodes = 0, prims = 0;
+        EXPECT_EQ(j["version"], 2);
+        EXPECT_EQ(j["cost"]["boxes_tested"], e.cost.nodesVisited);
+        EXPECT_EQ(j["cost"]["prims_tested"], e.cost.primsTested);
+        uint64_t boxes = 0, prims = 0;
         for (const auto& ray : j["rays"]) {
-            nodes += ray["totals"]["nodes"].get<uint64_t>();
-            prims += ray["totals"]["prims"].get<uint64_t>();
+            boxes += ray["totals"]["boxes_tested"].get<uint64_t>();
+            prims += ray["totals"]["prims_tested"].get<uint64_t>();
+            // The JSON's events are the text's words: a node entered or dropped, never "pop".
+            uint64_t entered = 0, dropped = 0;
+            for (const auto& s : ray["steps"]) {
+                EXPECT_NE(s["event"], "pop");
+                entered += s["event"] == "enter";
+                dropped += s["event"] == "drop";
+            }
+            EXPECT_EQ(entered, ray["totals"]["nodes_entered"].get<uint64_t>());
+            EXPECT_EQ(dropped, ray["totals"]["nodes_dropped"].get<uint64_t>());
         }
-        EXPECT_EQ(nodes, e.cost.nodesVisited);
+        EXPECT_EQ(boxes, e.cost.nodesVisited);
         EXPECT_EQ(prims, e.cost.primsTested);
         const std::string text = explainText(e);
         EXPECT_NE(text.find("hit   primitive " + std::to_string(e.primary.hit.prim)),
                   std::string::npos);
         EXPECT_NE(text.find("pixel cost  " + std::to_string(e.cost.nodesVisited) +
-                            " nodes visited, " + std::to_string(e.cost.primsTested)),
+                            " boxes tested, " + std::to_string(e.cost.primsTested)),
                   std::string::npos)
             << text;
     }

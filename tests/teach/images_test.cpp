@@ -54,10 +54,10 @@ TEST(Heatmap, ColoursFollowTheScaleAndTheLegendIsBelow) {
     spec.scene = "ramp";
     CostStats stats;
     const RgbImage img = heatmapImage(f, spec, &stats);
-    // The picture is centred above a band at least kMinLegendWidth wide.
+    // The picture is in the top-left corner of a band at least kMinLegendWidth wide.
     ASSERT_EQ(img.width, kMinLegendWidth);
     ASSERT_GT(img.height, f.height + 20);
-    const int ox = (kMinLegendWidth - f.width) / 2;
+    const int ox = 0;
     EXPECT_TRUE(same(img.at(ox + 0, 0), mapColour(ColourMap::Inferno, 0.0)));
     EXPECT_TRUE(same(img.at(ox + 5, 2), mapColour(ColourMap::Inferno, 25.0 / 50.0)));
     EXPECT_TRUE(same(img.at(ox + 0, 5), mapColour(ColourMap::Inferno, 1.0)));  // 50
@@ -75,14 +75,48 @@ TEST(Heatmap, AnAllZeroImageStaysAtTheBottomColour) {
     std::fill(f.nodes.begin(), f.nodes.end(), 0u);
     HeatmapSpec spec;
     const RgbImage img = heatmapImage(f, spec);
-    const int ox = (img.width - 4) / 2;
     for (int y = 0; y < 4; ++y)
         for (int x = 0; x < 4; ++x)
-            EXPECT_TRUE(same(img.at(ox + x, y), mapColour(ColourMap::Inferno, 0.0)));
+            EXPECT_TRUE(same(img.at(x, y), mapColour(ColourMap::Inferno, 0.0)));
+}
+
+// A teacher reads a pixel off the PNG (an image viewer's x, y from the top left) and passes it
+// to `octrace explain --pixel x,y`: the picture is not shifted by the legend's width, and the
+// legend says so.
+TEST(Heatmap, ThePngPixelIsThePixelToExplain) {
+    Film f(7, 5);  // narrower than the legend band, so the band is wider than the picture
+    for (size_t i = 0; i < f.pixelCount(); ++i) f.nodes[i] = uint32_t(i);
+    HeatmapSpec spec;
+    spec.scaleMax = uint32_t(f.pixelCount());
+    const RgbImage img = heatmapImage(f, spec);
+    ASSERT_GT(img.width, f.width);
+    for (int y = 0; y < f.height; ++y)
+        for (int x = 0; x < f.width; ++x)
+            EXPECT_TRUE(same(img.at(x, y), mapColour(ColourMap::Inferno,
+                                                     double(y * f.width + x) / spec.scaleMax)))
+                << x << "," << y;
+    const Legend legend = heatmapLegend(f, spec, costStats(f, spec.quantity, spec.scaleMax));
+    bool named = false;
+    for (const std::string& n : legend.notes) named = named || n.find("--pixel x,y") != n.npos;
+    EXPECT_TRUE(named) << "the legend should say which --pixel a PNG pixel is";
+}
+
+// The light is part of what a heat map shows (the shadow ray's cost): the legend states where
+// it is, the default light included.
+TEST(Heatmap, TheLegendStatesTheLight) {
+    const Film f = rampFilm();
+    HeatmapSpec spec;
+    spec.light = Vec3{8, 0, 0.5f};
+    const Legend legend = heatmapLegend(f, spec, costStats(f, spec.quantity, 0));
+    std::string text;
+    for (const std::string& s : legend.subtitle) text += s + "\n";
+    EXPECT_NE(text.find("light at (8, 0, 0.5)"), std::string::npos) << text;
 }
 
 TEST(Heatmap, QuantityNamesAreChecked) {
-    EXPECT_EQ(parseCostQuantity("nodes", "--heatmap"), CostQuantity::Nodes);
+    EXPECT_EQ(parseCostQuantity("boxes", "--heatmap"), CostQuantity::Nodes);
+    EXPECT_EQ(parseCostQuantity("nodes", "--heatmap"), CostQuantity::Nodes);  // the old name
+    EXPECT_STREQ(costQuantityName(CostQuantity::Nodes), "boxes");
     EXPECT_EQ(parseCostQuantity("prims", "--heatmap"), CostQuantity::Prims);
     try {
         parseCostQuantity("rays", "--heatmap");
@@ -174,7 +208,7 @@ TEST(Overlay, EdgesBehindTheSurfaceAreHidden) {
     const RgbImage a = overlayImage(wall, tp.frame, *tp.tree, OverlaySpec{}, &hidden);
     EXPECT_EQ(hidden.samplesDrawn, 0u);
     EXPECT_GT(hidden.samplesHidden, 1000u);
-    const int ox = (a.width - 96) / 2;  // the picture is centred above the legend band
+    const int ox = 0;  // the picture is in the top-left corner, above the legend band
     for (int y = 0; y < 80; ++y)
         for (int x = 0; x < 96; ++x) ASSERT_TRUE(same(a.at(ox + x, y), {40, 40, 40}));
     // No surface at all: nothing is hidden, edges are drawn.

@@ -96,7 +96,7 @@ TEST(CostBaseline, InflatedCostFails) {
         if (l.usesOctree && victim.empty()) victim = l.name;
     const std::string path = teapotManifest(dir, [&](json& layouts) {
         json& v = layouts[victim];
-        v["nodes"] = uint64_t(std::floor(v["nodes"].get<uint64_t>() / 1.10));
+        v["boxes_tested"] = uint64_t(std::floor(v["boxes_tested"].get<uint64_t>() / 1.10));
     });
     const CostReport r = checkCost(path);
     EXPECT_FALSE(r.passes());
@@ -114,9 +114,9 @@ TEST(CostBaseline, DropIsReportedAndMissingLayoutFails) {
     for (const oct::LayoutDesc& l : oct::layouts()) (first.empty() ? first : last) = l.name;
     const std::string path = teapotManifest(dir, [&](json& layouts) {
         json& v = layouts[first];
-        v["prims"] = v["prims"].get<uint64_t>() * 2;  // the build now does half the work
+        v["prims_tested"] = v["prims_tested"].get<uint64_t>() * 2;  // now half the work
         layouts.erase(last);
-        layouts["retired"] = {{"nodes", 1}, {"prims", 1}};
+        layouts["retired"] = {{"boxes_tested", 1}, {"prims_tested", 1}};
     });
     const CostReport r = checkCost(path);
     int dropped = 0, missing = 0, stale = 0;

@@ -56,7 +56,7 @@ TEST_F(RegressionCli, CommittedFilesPass) {
     ASSERT_NO_THROW(j = json::parse(r.out)) << r.out;
     EXPECT_TRUE(j["pass"].get<bool>());
     EXPECT_EQ(j["format"], "octrace-validate-report");
-    EXPECT_EQ(j["version"], 1);
+    EXPECT_EQ(j["version"], 2);  // 2: cost rows in boxes_tested, prims_tested
     EXPECT_TRUE(j["golden"]["pass"].get<bool>());
     EXPECT_TRUE(j["cost_baseline"]["pass"].get<bool>());
     EXPECT_NE(r.err.find("golden "), std::string::npos) << r.err;
@@ -85,7 +85,7 @@ TEST_F(RegressionCli, AlteredImageAndInflatedCostFail) {
     // The cost of the cube's layouts, baselines halved: the build costs twice as much.
     json m = readJson(manifest);
     for (auto& [name, v] : m["scenes"][0]["frames"][0]["cost"].items())
-        v["prims"] = v["prims"].get<uint64_t>() / 2;
+        v["prims_tested"] = v["prims_tested"].get<uint64_t>() / 2;
     std::ofstream(manifest) << m.dump(2);
     r = run({"validate", "--regression", manifest, "--json", dir.str("report.json")});
     EXPECT_EQ(r.status, 1) << r.out << r.err;

@@ -48,12 +48,41 @@ TEST(RegressionManifest, TheCommittedManifestReads) {
     EXPECT_EQ(refusal([](json&) {}), "");
 }
 
+// Version 1 named a frame's cost "nodes" and "prims"; such a file still reads, to the same
+// totals, so --update can rewrite it as version 2.
+TEST(RegressionManifest, AVersion1ManifestReadsWithItsOldKeys) {
+    octtest::TempDir dir("regression_manifest_v1");
+    const std::string now = octtest::copyRegression(dir.path(), {"cube_binary.ply"}, [](json&) {});
+    const oct::RegressionManifest current = oct::readRegressionManifest(now);
+    octtest::TempDir old("regression_manifest_v1_old");
+    const std::string v1 = octtest::copyRegression(old.path(), {"cube_binary.ply"}, [](json& m) {
+        m["version"] = 1;
+        for (json& f : m["scenes"][0]["frames"])
+            for (auto& [layout, c] : f["cost"].items()) {
+                c = {{"nodes", c["boxes_tested"]},
+                     {"prims", c["prims_tested"]},
+                     {"nodes_per_pixel", c["boxes_per_pixel"]},
+                     {"prims_per_pixel", c["prims_per_pixel"]}};
+            }
+    });
+    const oct::RegressionManifest read = oct::readRegressionManifest(v1);
+    ASSERT_EQ(read.scenes.size(), current.scenes.size());
+    ASSERT_FALSE(read.scenes[0].frames.empty());
+    for (size_t i = 0; i < current.scenes[0].frames.size(); ++i)
+        for (const auto& [layout, t] : current.scenes[0].frames[i].cost) {
+            const oct::CostTotals& o = read.scenes[0].frames[i].cost.at(layout);
+            EXPECT_EQ(o.nodes, t.nodes) << layout;
+            EXPECT_EQ(o.prims, t.prims) << layout;
+        }
+}
+
 TEST(RegressionManifest, MalformedOrLooseningFilesAreRefusedNamingTheField) {
     auto expectRefused = [](const std::string& what, const char* needle) {
         EXPECT_NE(what.find(needle), std::string::npos) << what;
         EXPECT_NE(what.find("regression.json"), std::string::npos) << what;
     };
-    expectRefused(refusal([](json& m) { m["version"] = 2; }), "version 1");
+    expectRefused(refusal([](json& m) { m["version"] = 3; }), "version 1 to 2");
+    expectRefused(refusal([](json& m) { m["version"] = 0; }), "version 1 to 2");
     expectRefused(
         refusal([](json& m) { m["tolerances"]["golden"]["cpu"]["max_over_fraction"] = 0.01; }),
         "looser than the rule's ceiling");

@@ -106,9 +106,9 @@ namespace {
 
 json totalsJson(const std::optional<CostTotals>& t) {
     if (!t) return nullptr;
-    return {{"nodes", t->nodes},
-            {"prims", t->prims},
-            {"nodes_per_pixel", t->nodesPerPixel()},
+    return {{"boxes_tested", t->nodes},
+            {"prims_tested", t->prims},
+            {"boxes_per_pixel", t->nodesPerPixel()},
             {"prims_per_pixel", t->primsPerPixel()}};
 }
 
@@ -129,7 +129,7 @@ json toJson(const CostReport& r) {
                         {"pass", x.passes()},
                         {"baseline", totalsJson(x.baseline)},
                         {"now", totalsJson(x.now)},
-                        {"nodes_change", num(x.nodesChange)},
+                        {"boxes_change", num(x.nodesChange)},
                         {"prims_change", num(x.primsChange)}});
     return {{"pass", r.passes()},
             {"manifest", r.manifest},
@@ -158,10 +158,10 @@ std::string humanSummary(const CostReport& r) {
         std::string line = fmt("  %-28s %-10s %-7s %-9s", frame.c_str(), x.layout.c_str(),
                                x.backend.c_str(), costVerdictName(x.verdict));
         if (r.updated && x.verdict == CostVerdict::Missing && x.now)
-            line = fmt("  %-28s %-10s new       nodes/px %.3f, prims/px %.3f", frame.c_str(),
+            line = fmt("  %-28s %-10s new       boxes/px %.3f, prims/px %.3f", frame.c_str(),
                        x.layout.c_str(), x.now->nodesPerPixel(), x.now->primsPerPixel());
         else if (x.baseline && x.now && x.baseline->pixels == x.now->pixels)
-            line += fmt(" nodes/px %.3f -> %.3f (%s), prims/px %.3f -> %.3f (%s)",
+            line += fmt(" boxes/px %.3f -> %.3f (%s), prims/px %.3f -> %.3f (%s)",
                         x.baseline->nodesPerPixel(), x.now->nodesPerPixel(),
                         pct(x.nodesChange).c_str(), x.baseline->primsPerPixel(),
                         x.now->primsPerPixel(), pct(x.primsChange).c_str());

@@ -18,7 +18,15 @@ using regression_detail::field;
 using report_detail::fmt;
 
 constexpr const char* kFormat = "octrace-regression";
-constexpr int kVersion = 1;
+// Version 2 names a frame's cost boxes_tested, prims_tested, boxes_per_pixel, prims_per_pixel
+// (the words of docs/TEACHING.md, "Words"). Version 1 named them nodes, prims, nodes_per_pixel,
+// prims_per_pixel; it is still read (the old keys), and --update writes version 2.
+constexpr int kVersion = 2;
+constexpr int kOldestVersion = 1;
+
+// The keys of a frame's cost totals in a manifest of `version`.
+const char* boxesKey(int version) { return version == 1 ? "nodes" : "boxes_tested"; }
+const char* primsKey(int version) { return version == 1 ? "prims" : "prims_tested"; }
 
 }  // namespace
 
@@ -140,7 +148,8 @@ json toleranceJson(const GoldenTolerance& t) {
         {"channel", t.channel}, {"max_over_fraction", t.maxOverFraction}, {"max_diff", t.maxDiff}};
 }
 
-RegressionFrame readFrame(const json& j, const std::string& path, const std::string& where) {
+RegressionFrame readFrame(const json& j, const std::string& path, const std::string& where,
+                          int version) {
     RegressionFrame f;
     f.view = field<std::string>(j, "view", path);
     if (!isRegressionView(f.view)) refuse(path, where + ": unknown view '" + f.view + "'");
@@ -152,17 +161,17 @@ RegressionFrame readFrame(const json& j, const std::string& path, const std::str
     const json cost = field<json>(j, "cost", path);
     if (!cost.is_object()) refuse(path, where + ": 'cost' must be an object by layout");
     for (auto it = cost.begin(); it != cost.end(); ++it)
-        f.cost[it.key()] = {f.pixels, field<uint64_t>(*it, "nodes", path),
-                            field<uint64_t>(*it, "prims", path)};
+        f.cost[it.key()] = {f.pixels, field<uint64_t>(*it, boxesKey(version), path),
+                            field<uint64_t>(*it, primsKey(version), path)};
     return f;
 }
 
 json frameJson(const RegressionFrame& f) {
     json cost = json::object();
     for (const auto& [name, t] : f.cost)
-        cost[name] = {{"nodes", t.nodes},
-                      {"prims", t.prims},
-                      {"nodes_per_pixel", t.nodesPerPixel()},
+        cost[name] = {{boxesKey(kVersion), t.nodes},
+                      {primsKey(kVersion), t.prims},
+                      {"boxes_per_pixel", t.nodesPerPixel()},
                       {"prims_per_pixel", t.primsPerPixel()}};
     return {{"view", f.view}, {"image", f.image}, {"pixels", f.pixels}, {"cost", cost}};
 }
@@ -231,9 +240,10 @@ const RegressionScene* RegressionManifest::find(const std::string& name) const {
 
 RegressionManifest readRegressionManifest(const std::string& path) {
     json j = readRegressionJson(path, "regression manifest");
-    if (field<std::string>(j, "format", path) != kFormat ||
-        field<int>(j, "version", path) != kVersion)
-        refuse(path, fmt("not an %s version %d manifest", kFormat, kVersion));
+    const int version = field<int>(j, "version", path);
+    if (field<std::string>(j, "format", path) != kFormat || version < kOldestVersion ||
+        version > kVersion)
+        refuse(path, fmt("not an %s version %d to %d manifest", kFormat, kOldestVersion, kVersion));
     RegressionManifest m;
     m.path = path;
     m.octrace = field<std::string>(j, "octrace", path);
@@ -269,7 +279,7 @@ RegressionManifest readRegressionManifest(const std::string& path) {
         s.own = readSettings(e, path, where);
         if (e.contains("frames"))
             for (const json& f : field<json>(e, "frames", path)) {
-                s.frames.push_back(readFrame(f, path, where));
+                s.frames.push_back(readFrame(f, path, where, version));
                 if (!images.insert(s.frames.back().image).second)
                     refuse(path, where + ": image '" + s.frames.back().image +
                                      "' is another frame's too");

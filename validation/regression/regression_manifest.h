@@ -4,7 +4,7 @@
 // images and cost baselines are read from it and written into it; docs/VALIDATION.md
 // ("The regression set") describes every field and the two commands that add a scene.
 //
-//   {"format": "octrace-regression", "version": 1, "octrace": "0.1.0",
+//   {"format": "octrace-regression", "version": 2, "octrace": "0.1.0",
 //    "backends": ["cpu"],
 //    "tolerances": {"golden": {"cpu": {"channel": 0, "max_over_fraction": 0, "max_diff": 0},
 //                              "embree": {"channel": 1, "max_over_fraction": 0.0005,
@@ -16,8 +16,10 @@
 //      {"scene": "meshes/teapot.obj", "views": ["default", "+y", "inside"],    <- written by you
 //       ("name": "teapot-97x61", "width": 97, "height": 61, "layouts": ["hash"], ...)
 //       "frames": [{"view": "default", "image": "teapot.obj.png", "pixels": 16384,  <- derived
-//                   "cost": {"linear": {"nodes": 1, "prims": 2, "nodes_per_pixel": ...,
-//                                       "prims_per_pixel": ...}, ...}}, ...]}]}
+//                   "cost": {"linear": {"boxes_tested": 1, "prims_tested": 2,
+//                                       "boxes_per_pixel": ..., "prims_per_pixel": ...},
+//                            ...}}, ...]}]}
+// (version 1, still read: "nodes", "prims", "nodes_per_pixel" for the cost; --update writes 2)
 //
 // A scene entry may override any field of `defaults` (a frame that is not square, a single-leaf
 // or a deep tree, only the layouts that can hold it). `frames`, `octrace` and the images are

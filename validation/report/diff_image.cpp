@@ -27,6 +27,20 @@ Rgb heat(double rel, double tol) {
 
 }  // namespace
 
+DiffMarks diffMarks(const FilmValidation& v) {
+    DiffMarks m;
+    m.pixels = v.primaryClass.size();
+    for (size_t i = 0; i < v.primaryClass.size(); ++i) {
+        m.wrongPrimary += v.primaryClass[i] == uint8_t(HitClass::Wrong);
+        m.ambiguousPrimary += v.primaryClass[i] == uint8_t(HitClass::Ambiguous);
+        m.wrongShadow += v.shadowClass[i] == uint8_t(HitClass::Wrong);
+        m.ambiguousShadow += v.shadowClass[i] == uint8_t(HitClass::Ambiguous);
+    }
+    const uint64_t wrong = m.wrongPrimary + m.wrongShadow;
+    m.ringed = wrong > 0 && wrong <= kMaxRingedPixels;
+    return m;
+}
+
 std::vector<uint8_t> diffImage(const FilmValidation& v, double tol) {
     const int w = v.width, h = v.height;
     std::vector<uint8_t> rgb(size_t(w) * size_t(h) * 3, 0);
@@ -51,7 +65,9 @@ std::vector<uint8_t> diffImage(const FilmValidation& v, double tol) {
             if (sc == uint8_t(HitClass::Ambiguous)) c = {255, 190, 110};
             put(x, y, c);
         }
-    // Rings last, so a neighbour never paints over them.
+    // Rings last, so a neighbour never paints over them; without rings the wrong pixels are
+    // coloured like the others, red for a wrong primary hit, magenta for a wrong shadow ray.
+    const bool ringed = diffMarks(v).ringed;
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             size_t i = size_t(y) * size_t(w) + size_t(x);
@@ -59,6 +75,10 @@ std::vector<uint8_t> diffImage(const FilmValidation& v, double tol) {
             bool wrongS = v.shadowClass[i] == uint8_t(HitClass::Wrong);
             if (!wrongP && !wrongS) continue;
             Rgb ring = wrongP ? Rgb{255, 0, 0} : Rgb{255, 0, 255};
+            if (!ringed) {
+                put(x, y, ring);
+                continue;
+            }
             for (int dy = -3; dy <= 3; ++dy)
                 for (int dx = -3; dx <= 3; ++dx) {
                     int d2 = dx * dx + dy * dy;
