@@ -217,7 +217,7 @@ label { color: #b4b7c2; margin-right: 10px; }
 <div id="image-box"><canvas id="image" width="1" height="1"></canvas>
 <div id="image-info"><label><input type="checkbox" id="show-cost"> colour by cost
 (boxes tested)</label><br><span id="cost-scale"></span><br><span id="pixel-info"></span></div></div>
-<p id="controls"><button id="first" title="first step (Home)">&#x23EE;</button><button
+<p id="controls"><button id="first" title="first step (Home)">|&#x25C0;</button><button
 id="prev" title="previous step (&#x2190;)">&#x25C0;</button><button id="play"
 title="play / pause (space)">&#x25B6;</button><button id="next"
 title="next step (&#x2192;)">&#x25B6;&#x258F;</button>

@@ -414,7 +414,7 @@ void drawLegend(SvgWriter& svg, const PlaneFigure& f, const Explanation& e) {
     rows.y += 8;
     const StepTotals& t = e.primary.totals;
     rows.note("primary ray: " + std::to_string(t.boxTests) + " boxes tested, " +
-              std::to_string(t.visited) + " cells visited,");
+              std::to_string(t.entered) + " nodes entered,");
     rows.note(std::to_string(t.primTests) + " primitives tested" +
               (f.hit ? ", hit primitive " + std::to_string(e.primary.hit.prim) : ", no hit"));
     if (f.grid.size() > kMaxGridCells)

@@ -281,7 +281,8 @@ function main(data, kernel) {
         if (!box) return;
         const centre = new THREE.Vector3((box[0] + box[3]) / 2, (box[1] + box[4]) / 2,
             (box[2] + box[5]) / 2);
-        const size = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2], diag * 1e-3);
+        // No closer than 3 % of the scene: the rays are drawn as rods of 0.25 % of it.
+        const size = Math.max(box[3] - box[0], box[4] - box[1], box[5] - box[2], diag * 0.03);
         const dir = camera.position.clone().sub(controls.target).normalize();
         controls.target.copy(centre);
         camera.position.copy(centre).add(dir.multiplyScalar(size * 3.2));
