@@ -12,6 +12,7 @@
 #include "core/render/film.h"
 #include "teach/colour_map.h"
 #include "teach/page_kernel_script.h"
+#include "teach/svg.h"
 #include "teach/teach_error.h"
 #include "teach/viewer_script.h"
 
@@ -143,23 +144,6 @@ json modelJson(const Scene& scene, PageStats& stats, std::string& note) {
         note += ". The spheres the ray tested are drawn exactly.";
     }
     return j;
-}
-
-std::string escapeHtml(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '<')
-            out += "&lt;";
-        else if (c == '>')
-            out += "&gt;";
-        else if (c == '&')
-            out += "&amp;";
-        else if (c == '"')
-            out += "&quot;";
-        else
-            out += c;
-    }
-    return out;
 }
 
 // The page's frame; @TITLE@, @SUMMARY@, @NOTE@, @LEGEND@, @DATA@, @KERNEL@, @SCRIPT@,
@@ -332,12 +316,12 @@ std::string explainPage(const Explanation& e, const BuiltScene& bs, const Layout
 
     std::string page = kTemplate;
     const std::string title = d["title"].get<std::string>();
-    replaceFirst(page, "@TITLE@", escapeHtml(title));
-    replaceFirst(page, "@TITLE@", escapeHtml(title));
-    replaceFirst(page, "@SCENE@", escapeHtml(sceneLine));
-    replaceFirst(page, "@SUMMARY@", escapeHtml(d["summary"].get<std::string>()));
+    replaceFirst(page, "@TITLE@", xmlEscape(title));
+    replaceFirst(page, "@TITLE@", xmlEscape(title));
+    replaceFirst(page, "@SCENE@", xmlEscape(sceneLine));
+    replaceFirst(page, "@SUMMARY@", xmlEscape(d["summary"].get<std::string>()));
     replaceFirst(page, "@LEGEND@", legend);
-    replaceFirst(page, "@NOTE@", escapeHtml(notes));
+    replaceFirst(page, "@NOTE@", xmlEscape(notes));
     replaceFirst(page, "@VERSIONS@", viewerVersions());
     replaceFirst(page, "@KERNELVERSION@", pageKernelVersion());
     // Data and scripts last: nothing is searched for inside them.

@@ -13,7 +13,7 @@ namespace oct {
 
 // A coordinate or length in the SVG: two decimals, "-0.00" written "0.00".
 std::string svgNum(double v);
-// Text for an SVG element or attribute: & < > " escaped.
+// Text for an SVG or HTML element or attribute: & < > " escaped (the explain page uses it too).
 std::string xmlEscape(const std::string& text);
 // "#rrggbb".
 std::string svgColour(Rgb8 c);
