@@ -20,9 +20,12 @@ namespace oct {
 // Primitives drawn as tested (beyond that, exhaustive tracing: only the hit ones).
 constexpr uint32_t kPageMaxTestedPrims = 4000;
 
-// The object's fields: "root", "light", "cells", "rays", "prims", "lines", "view", "title",
-// "summary", "prims_note" (documented in docs/TEACHING.md, "The page"). `cells` and `lines`
-// count what it holds.
+// The object's fields: "root" (the root cube, 6 floats), "light", "cells" (each tested or
+// skipped cell: ray, key in octal, depth, box, visited, and order and colour when visited),
+// "rays" (role, from, to, hit, colour), "prims" (id, hit, and a triangle's 9 floats "v" or a
+// sphere's "c" and "r"), "prims_note", "lines" (explainLines: ray, step, text, key, prim; and
+// headings), "view" (the first camera: target, eye, up), "pixel" ([x, y] or null), "title" and
+// "summary". `cells` and `lines` count what it holds.
 struct PixelPageCounts {
     uint64_t cells = 0;  // cells on the page
     uint64_t lines = 0;  // entries of the step list (headings excluded)
