@@ -63,14 +63,28 @@ function ball(at, radius, colour) {
     return mesh;
 }
 
+// The model's arrays as bytes, decoded once: the viewer draws them, and the kernel rebuilds the
+// scene's triangles from them (when the model is not decimated).
+function modelBytes(data) {
+    if (!data.modelBytes) {
+        const m = data.mesh;
+        data.modelBytes = {
+            positions: decodeBase64(m.positions, Uint8Array),
+            indices: m.indices ? decodeBase64(m.indices, Uint8Array) : null,
+        };
+    }
+    return data.modelBytes;
+}
+
 function buildModel(data, scene) {
     const m = data.mesh;
-    const positions = decodeBase64(m.positions, Float32Array);
+    const bytes = modelBytes(data);
     const geom = new THREE.BufferGeometry();
+    const positions = new Float32Array(bytes.positions.buffer);
     geom.setAttribute('position', new THREE.BufferAttribute(positions, 3));
     let object;
     if (m.kind === 'triangles') {
-        geom.setIndex(new THREE.BufferAttribute(decodeBase64(m.indices, Uint32Array), 1));
+        geom.setIndex(new THREE.BufferAttribute(new Uint32Array(bytes.indices.buffer), 1));
         geom.computeVertexNormals();
         object = new THREE.Mesh(
             geom,
@@ -128,7 +142,7 @@ async function loadKernel(data) {
     // onto its 5 MB stack): the model mesh's, or the spec's own base64 data.
     const spec = { ...data.kernel, scene: { ...data.kernel.scene, data: null } };
     const blobs = data.kernel.scene.from_model
-        ? [decodeBase64(data.mesh.positions, Uint8Array), decodeBase64(data.mesh.indices, Uint8Array)]
+        ? [modelBytes(data).positions, modelBytes(data).indices]
         : [decodeBase64(data.kernel.scene.data, Uint8Array), null];
     const ptrs = blobs.map((b) => {
         if (!b) return 0;
@@ -212,7 +226,6 @@ function main(data, kernel) {
     let primById = new Map();
     let items = [];
     let cursor = -1;  // the current step line (index into page.lines), -1: none
-    let pinned = false;
     let playing = null;
     const list = document.getElementById('steps');
     const follow = document.getElementById('follow');
@@ -289,11 +302,10 @@ function main(data, kernel) {
         controls.update();
     }
 
-    function setCursor(i, { pin = false } = {}) {
+    function setCursor(i) {
         const was = list.querySelector('li.pinned');
         if (was) was.classList.remove('pinned');
         cursor = i;
-        pinned = pin || pinned;
         if (cursor >= 0 && items[cursor]) {
             items[cursor].classList.add('pinned');
             items[cursor].scrollIntoView({ block: 'nearest' });
@@ -318,7 +330,7 @@ function main(data, kernel) {
         const at = s.indexOf(cursor);
         const next = at < 0 ? (delta > 0 ? 0 : s.length - 1)
             : Math.min(s.length - 1, Math.max(0, at + delta));
-        setCursor(s[next], { pin: true });
+        setCursor(s[next]);
         return next < s.length - 1;
     }
     function stop() {
@@ -392,7 +404,6 @@ function main(data, kernel) {
         list.textContent = '';
         items = [];
         cursor = -1;
-        pinned = false;
         d.lines.forEach((line, i) => {
             const li = document.createElement('li');
             li.textContent = line.text;
@@ -417,7 +428,7 @@ function main(data, kernel) {
                     setCursor(-1);
                     history.replaceState(null, '', location.pathname + location.search);
                 } else {
-                    setCursor(i, { pin: true });
+                    setCursor(i);
                 }
             });
             items[i] = li;
@@ -509,7 +520,7 @@ function main(data, kernel) {
     // --- controls ----------------------------------------------------------------------------
     document.getElementById('first').addEventListener('click', () => {
         stop();
-        setCursor(stepLines()[0] ?? -1, { pin: true });
+        setCursor(stepLines()[0] ?? -1);
     });
     document.getElementById('prev').addEventListener('click', () => {
         stop();
@@ -525,7 +536,7 @@ function main(data, kernel) {
         if (ev.key === 'ArrowRight' || ev.key === 'ArrowDown') step(1);
         else if (ev.key === 'ArrowLeft' || ev.key === 'ArrowUp') step(-1);
         else if (ev.key === ' ') play();
-        else if (ev.key === 'Home') setCursor(stepLines()[0] ?? -1, { pin: true });
+        else if (ev.key === 'Home') setCursor(stepLines()[0] ?? -1);
         else return;
         ev.preventDefault();
     });
@@ -551,7 +562,7 @@ function main(data, kernel) {
     for (const [name, ray] of [['step', 0], ['shadow', 1]]) {
         if (!hash.has(name)) continue;
         const found = lineOfStep(ray, Number(hash.get(name)));
-        if (found >= 0) setCursor(found, { pin: true });
+        if (found >= 0) setCursor(found);
     }
     render();
     if (document.body.dataset.octrace !== 'error') document.body.dataset.octrace = 'rendered';
