@@ -87,6 +87,14 @@ void StepRecorder::finish(const Ray& ray) {
     }
 }
 
+std::map<uint64_t, int> visitOrder(const std::vector<ExplainStep>& steps) {
+    std::map<uint64_t, int> order;
+    for (const ExplainStep& s : steps)
+        if (s.event == StepEvent::Pop && s.hit && !order.count(s.key))
+            order.emplace(s.key, int(order.size()) + 1);
+    return order;
+}
+
 StepTotals countSteps(const std::vector<ExplainStep>& steps) {
     StepTotals t;
     for (size_t i = 0; i < steps.size(); ++i) {

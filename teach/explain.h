@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -68,6 +69,9 @@ struct StepTotals {
     uint64_t probes = 0, lookups = 0;                // hash slots looked at; lookups they served
 };
 StepTotals countSteps(const std::vector<ExplainStep>& steps);
+// The nodes entered (Pop events that entered), numbered 1..n in the order the traversal entered
+// them: the numbering the page's cells and the 2D view's cells share.
+std::map<uint64_t, int> visitOrder(const std::vector<ExplainStep>& steps);
 
 // Why a ray misses a box, and how near it comes.
 struct BoxMiss {

@@ -39,11 +39,8 @@ constexpr const char* kOccludedColour = "#ff9500";
 // Cells of one ray: every box tested or child skipped, visited ones numbered in visit order.
 void addCells(json& cells, const Explanation& e, int rayIndex) {
     const RayTrace& r = rayIndex == 0 ? e.primary : *e.shadow;
-    std::map<uint64_t, int> visitOrder;
-    for (const ExplainStep& s : r.steps)
-        if (s.event == StepEvent::Pop && s.hit && !visitOrder.count(s.key))
-            visitOrder.emplace(s.key, int(visitOrder.size()));
-    const int n = int(visitOrder.size());
+    const std::map<uint64_t, int> order = visitOrder(r.steps);  // 1..n
+    const int n = int(order.size());
     std::set<uint64_t> seen;
     for (const ExplainStep& s : r.steps) {
         if ((s.event != StepEvent::Box && s.event != StepEvent::Skip) || seen.count(s.key))
@@ -54,13 +51,13 @@ void addCells(json& cells, const Explanation& e, int rayIndex) {
         c["key"] = keyOctal(s.key);
         c["depth"] = keyDepth(s.key);
         c["box"] = box6(s.event == StepEvent::Box ? s.box : boxOfKey(e.root, s.key));
-        auto it = visitOrder.find(s.key);
-        c["visited"] = it != visitOrder.end();
-        if (it != visitOrder.end()) {
+        auto it = order.find(s.key);
+        c["visited"] = it != order.end();
+        if (it != order.end()) {
             char hex[8];
-            hexColour(mapColour(ColourMap::Viridis, n > 1 ? double(it->second) / (n - 1) : 1.0),
+            hexColour(mapColour(ColourMap::Viridis, n > 1 ? double(it->second - 1) / (n - 1) : 1.0),
                       hex);
-            c["order"] = it->second + 1;
+            c["order"] = it->second;
             c["colour"] = hex;
         }
         cells.push_back(std::move(c));

@@ -43,16 +43,6 @@ void projectBox(const Aabb& b, const AxisPlane& p, double& u0, double& v0, doubl
     v1 = b.hi[p.v];
 }
 
-// Visited cells, 1..n in the order the traversal popped and visited them (StepEvent::Pop with
-// hit), as the text output's "visit" lines number them.
-std::map<uint64_t, int> visitOrder(const std::vector<ExplainStep>& steps) {
-    std::map<uint64_t, int> order;
-    for (const ExplainStep& s : steps)
-        if (s.event == StepEvent::Pop && s.hit && !order.count(s.key))
-            order.emplace(s.key, int(order.size()) + 1);
-    return order;
-}
-
 // Cells some of whose children were tested or skipped: the internal ones. A visited cell that
 // is not among them had its primitives tested: a leaf (an empty leaf is never visited).
 std::set<uint64_t> parentsOfTestedCells(const std::vector<ExplainStep>& steps) {
