@@ -8,11 +8,11 @@
 #include <set>
 #include <unordered_map>
 
+#include "core/io/markup.h"
 #include "core/octree/morton.h"
 #include "core/render/film.h"
 #include "teach/colour_map.h"
 #include "teach/page_kernel_script.h"
-#include "teach/svg.h"
 #include "teach/teach_error.h"
 #include "teach/viewer_script.h"
 

@@ -14,27 +14,6 @@ std::string svgNum(double v) {
     return s == "-0.00" ? "0.00" : s;
 }
 
-std::string xmlEscape(const std::string& text) {
-    std::string out;
-    for (char c : text) switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            default:
-                out += c;
-        }
-    return out;
-}
-
 std::string svgColour(Rgb8 c) {
     char b[8];
     hexColour(c, b);

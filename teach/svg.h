@@ -7,14 +7,13 @@
 #include <string>
 
 #include "core/geometry/ray.h"
+#include "core/io/markup.h"  // xmlEscape, for the figures' text
 #include "teach/colour_map.h"
 
 namespace oct {
 
 // A coordinate or length in the SVG: two decimals, "-0.00" written "0.00".
 std::string svgNum(double v);
-// Text for an SVG or HTML element or attribute: & < > " escaped (the explain page uses it too).
-std::string xmlEscape(const std::string& text);
 // "#rrggbb".
 std::string svgColour(Rgb8 c);
 

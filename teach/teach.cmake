@@ -79,7 +79,7 @@ if(OCT_PAGE_KERNEL)
       core/octree/compact_layout.cpp core/octree/exhaustive_layout.cpp
       core/octree/hash_layout.cpp core/octree/layout.cpp core/octree/layout_registry.cpp
       core/octree/linear_layout.cpp core/render/film.cpp core/scene/scene.cpp
-      core/system/resources.cpp core/io/ray_file.cpp)
+      core/system/resources.cpp core/io/ray_file.cpp core/io/markup.cpp)
   # -fno-fast-math and no contraction: the page's floats are the host kernel's, bit for bit.
   set(kernel_flags -O2 -std=c++17 -fexceptions -ffp-contract=off -I${PROJECT_SOURCE_DIR}
                    -I${kernel_dir}/include)

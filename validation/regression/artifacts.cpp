@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "core/io/markup.h"
 #include "core/io/output_file.h"
 #include "validation/report/report_util.h"
 
@@ -12,30 +13,6 @@ namespace oct {
 using report_detail::fmt;
 
 namespace {
-
-// Text for HTML: &, <, > and quotes escaped (scene names and paths are the user's).
-std::string html(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
-}
 
 // A file name of letters, digits, '.', '-' and '_' only: the row's image, tracer and backend.
 std::string safeName(const std::string& s) {
@@ -102,7 +79,7 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
                        (r.passes() ? (r.skipped.empty() ? "PASS" : "INCOMPLETE") : "FAIL") +
                        "</h1>";
     for (const SkippedBackend& b : r.skipped)
-        page += "<p>Skipped backend <b>" + html(b.name) + "</b>: " + html(b.why) +
+        page += "<p>Skipped backend <b>" + xmlEscape(b.name) + "</b>: " + xmlEscape(b.why) +
                 " (not run, so not a pass).</p>";
     if (r.golden) {
         page += fmt("<h2>Golden images: %zu of %zu comparisons fail</h2>", images.size(),
@@ -114,9 +91,9 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
             "tolerance <span class=key style=\"background:red\"></span> d over it, counted by "
             "the rule.</p>";
         for (const GoldenRow* row : images) {
-            const std::string title = "<h3>" + html(row->scene) + " (view " + html(row->view) +
-                                      "): " + html(row->tracer) + " on " + html(row->backend) +
-                                      "</h3>";
+            const std::string title = "<h3>" + xmlEscape(row->scene) + " (view " +
+                                      xmlEscape(row->view) + "): " + xmlEscape(row->tracer) +
+                                      " on " + xmlEscape(row->backend) + "</h3>";
             if (row->missing) {
                 page += title + "<p>No golden image for this frame: rerun with --update.</p>";
                 continue;
@@ -144,7 +121,7 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
             for (const char* kind : {"actual", "golden", "diff"})
                 page += (std::string(kind) == "diff" && diff.empty())
                             ? std::string("<td>—</td>")
-                            : "<td><img src=\"" + html(stem) + "-" + kind + ".png\"></td>";
+                            : "<td><img src=\"" + xmlEscape(stem) + "-" + kind + ".png\"></td>";
             page += "</tr></table>";
         }
     }
@@ -158,10 +135,10 @@ ArtifactsWritten writeRegressionArtifacts(const std::string& dir, const Regressi
                 "baseline nodes / prims per pixel</th><th>now</th><th>change nodes, "
                 "prims</th></tr>";
             for (const CostRow* c : costs)
-                page += "<tr><td>" + html(c->scene) + "</td><td>" + html(c->view) + "</td><td>" +
-                        html(c->layout) + "</td><td>" + html(c->backend) + "</td><td>" +
-                        costVerdictName(c->verdict) + "</td><td>" + costCell(c->baseline) +
-                        "</td><td>" + costCell(c->now) + "</td><td>" +
+                page += "<tr><td>" + xmlEscape(c->scene) + "</td><td>" + xmlEscape(c->view) +
+                        "</td><td>" + xmlEscape(c->layout) + "</td><td>" + xmlEscape(c->backend) +
+                        "</td><td>" + costVerdictName(c->verdict) + "</td><td>" +
+                        costCell(c->baseline) + "</td><td>" + costCell(c->now) + "</td><td>" +
                         fmt("%+.2f%%, %+.2f%%", 100.0 * c->nodesChange, 100.0 * c->primsChange) +
                         "</td></tr>";
             page += "</table>";
