@@ -81,11 +81,11 @@ OCT_HD inline bool triangleTInDouble(const ShearedRay& r, const Triangle& tri, b
 // double, so that a sliver's ill-conditioned float normal does not count.
 OCT_HD inline bool rayInPlane(const ShearedRay& r, const Triangle& tri) {
     const DVec3 n = cross(toDouble(tri.v1) - toDouble(tri.v0), toDouble(tri.v2) - toDouble(tri.v0));
-    double d[3];
-    d[r.kx] = double(r.sx);
-    d[r.ky] = double(r.sy);
-    d[r.kz] = 1.0;
-    const DVec3 dir{d[0], d[1], d[2]};
+    // The sheared direction back in x, y, z order: component kx is sx, ky is sy, kz is 1.
+    const auto along = [&r](int axis) {
+        return axis == r.kx ? double(r.sx) : axis == r.ky ? double(r.sy) : 1.0;
+    };
+    const DVec3 dir{along(0), along(1), along(2)};
     const double nd = dot(n, dir);
     return nd * nd <= 0x1p-42 * dot(n, n) * dot(dir, dir);
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 
 #include "core/platform.h"
 
@@ -12,10 +13,22 @@ namespace oct {
 struct Vec3 {
     float x, y, z;  // 12 bytes, no padding
 
-    // Indexed as the three packed floats they are (standard layout, no padding: one load
-    // instead of a chain of selects on a run-time index, e.g. the triangle test's permutation).
-    OCT_HD float operator[](int i) const { return (&x)[i]; }
-    OCT_HD float& operator[](int i) { return (&x)[i]; }
+    // Component i (0, 1, 2) on a run-time index, e.g. the triangle test's permutation. Not
+    // (&x)[i]: indexing past a member is undefined behaviour, and one compiler (clang for
+    // WebAssembly) misread it on a temporary. On CUDA by selects, which keep the vector in
+    // registers (an indexed array would live in local memory, the stack ptxas counts); on the
+    // host by a copy of the three packed floats (standard layout, no padding), which compiles
+    // to the one indexed load it was.
+    OCT_HD float operator[](int i) const {
+#if defined(__CUDA_ARCH__)
+        return i == 0 ? x : (i == 1 ? y : z);
+#else
+        float f[3];
+        memcpy(f, this, sizeof f);
+        return f[i];
+#endif
+    }
+    OCT_HD float& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
 };
 static_assert(sizeof(Vec3) == 12, "Vec3 must be three packed floats");
 
