@@ -346,8 +346,9 @@ struct Pending {
     double tEnter;
 };
 
-// sortFarToNear (traversal.h): descending t enter, ties in quadrant order, so the nearest is
-// pushed last and popped first.
+// The octree traversal's visiting order (nearFirstOrder, traversal.h): sorted by descending
+// t enter, ties in quadrant order, so the nearest is pushed last and popped first (nearest
+// first; equal t, the higher quadrant first).
 void sortFarToNear(std::vector<Pending>& kids) {
     for (size_t i = 1; i < kids.size(); ++i) {
         const Pending x = kids[i];

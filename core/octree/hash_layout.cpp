@@ -67,6 +67,11 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
     try {
         while (true) {
             if (m > params.budgetBytes / slotBytes) throw overBudget(m, h.growSteps > 0);
+            if (m * B > kMaxNodeRecords)
+                throw OctreeError("hash octree of " + std::to_string(n) + " nodes: m = " +
+                                  std::to_string(m) + " buckets of B = " + std::to_string(B) +
+                                  " slots, more than the 2^32 slots its traversal indexes: "
+                                  "lower --max-depth or raise --max-prims");
             if (fits(tree, m, B, fill)) break;
             m = nextPrime(m + std::max<uint64_t>(1, m / 4));
             ++h.growSteps;

@@ -45,6 +45,8 @@ struct HashOctreeView {
         NoObserver none;
         return find(key, none);
     }
+    // The array the traversal's record indices count in (at most kMaxNodeRecords).
+    OCT_HD const OctreeNode* records() const { return slots.data; }
     OCT_HD const OctreeNode* root() const {
         NoObserver none;
         return root(none);

@@ -47,6 +47,11 @@ LinearOctree buildLinear(const Octree& tree, uint64_t budgetBytes) {
         throw OctreeError("the linear octree of depth " + std::to_string(tree.depth) + " needs " +
                           mibText(bytes) + ", over the budget of " + mibText(budgetBytes) +
                           ": lower --max-depth, raise --max-prims, or raise --linear-budget");
+    if (linearNodeCount(tree.depth) > kMaxNodeRecords)
+        throw OctreeError("the linear octree of depth " + std::to_string(tree.depth) + " has " +
+                          std::to_string(linearNodeCount(tree.depth)) +
+                          " records, more than the 2^32 its traversal indexes: lower --max-depth, "
+                          "or use the hash or compact layout");
     // Within the budget but perhaps not within the machine (the budget goes to 16 TiB): the
     // array is filled at once, so past the memory left it would be the OOM killer's, not ours.
     checkMemory<OctreeError>(

@@ -26,6 +26,8 @@ struct LinearOctreeView {
         f("the leaf index list", v.primIndices);
     }
 
+    // The array the traversal's record indices count in (at most kMaxNodeRecords).
+    OCT_HD const OctreeNode* records() const { return nodes.data; }
     OCT_HD const OctreeNode* root() const {
         NoObserver none;
         return root(none);

@@ -22,30 +22,83 @@
 
 namespace oct {
 
-struct StackEntry {
-    const OctreeNode* node;
-    float tEnter;
-};
+// The traversal's state is one entry a level, not one a pushed child (after Laine & Karras,
+// "Efficient Sparse Voxel Octrees", 2010, whose stack holds one parent a level and re-derives
+// its siblings): the internal node whose children are still to visit, and the octants of those
+// children in the order they will be visited. A child's record is looked up again when its
+// turn comes (linear: 8p + 1 + i; hash: its key) and its entry t recomputed from its box, the
+// same bits the first test gave; the nearest child is visited straight away, with the entry t
+// just computed. kMaxOctreeDepth levels hold every internal node of a tree the builder allows
+// (depths 0 .. kMaxOctreeDepth - 1): 8 bytes a level (a 32-bit record index, kMaxNodeRecords,
+// and the order word), 168 bytes in all, against 16 bytes a pushed child (7 a level + 8:
+// 2,480 bytes) before, which CUDA kept in local memory.
+//
+// Byte layout of an order word (uint32): the octants still to visit, nearest first, one 4-bit
+// nibble each from the lowest: bit 3 set (a nibble is in use), bits 0-2 the octant. 0: no child
+// left at this level.
+constexpr uint32_t kOrderInUse = 8;
 
-// Sorts up to 8 (node, tEnter) pairs by tEnter, descending, so the nearest is pushed last and
-// popped first. Insertion sort: at most 8 elements.
-OCT_HD inline void sortFarToNear(StackEntry* e, int n) {
-    for (int i = 1; i < n; ++i) {
-        StackEntry x = e[i];
-        int j = i - 1;
-        while (j >= 0 && e[j].tEnter < x.tEnter) {
-            e[j + 1] = e[j];
-            --j;
+// The order word of the children in `hitMask` entered at tEnter[i]: nearest first; equal entry
+// t, the higher octant first (the order in which a far-to-near sort of the octant-ordered
+// children, stable on ties, would pop them from a stack). Two ways to the same word, tested
+// equal (tests/core/traversal_test.cpp): CUDA ranks by counting, every index known at
+// compile time, so the eight values stay in registers; the host sorts the few hit children by
+// insertion, which costs less than 64 comparisons when two to four are hit.
+OCT_HD inline uint32_t nearFirstOrderByRank(const float* tEnter, uint32_t hitMask) {
+    uint32_t order = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+    for (int i = 0; i < 8; ++i) {
+        int rank = 0;
+#if defined(__CUDA_ARCH__)
+#pragma unroll
+#endif
+        for (int j = 0; j < 8; ++j) {
+            const bool before = tEnter[j] < tEnter[i] || (tEnter[j] == tEnter[i] && j > i);
+            rank += int(((hitMask >> j) & 1u) != 0 && before);
         }
-        e[j + 1] = x;
+        if ((hitMask >> i) & 1u) order |= uint32_t(i | kOrderInUse) << (4 * rank);
     }
+    return order;
 }
 
-// Depth-first traversal with an explicit stack of kTraversalStackSize entries; the builder
-// refuses depths beyond kMaxOctreeDepth, which bounds the stack (7 per level + 8).
+OCT_HD inline uint32_t nearFirstOrderBySort(const float* tEnter, uint32_t hitMask) {
+    // Hit children in ascending octant order, then sorted nearest first, ties to the higher
+    // octant: an insertion moves an entry before those entered later or at the same t.
+    float t[8];
+    int octant[8];
+    int n = 0;
+    for (int i = 0; i < 8; ++i) {
+        if (!((hitMask >> i) & 1u)) continue;
+        int j = n++;
+        while (j > 0 && t[j - 1] >= tEnter[i]) {
+            t[j] = t[j - 1];
+            octant[j] = octant[j - 1];
+            --j;
+        }
+        t[j] = tEnter[i];
+        octant[j] = i;
+    }
+    uint32_t order = 0;
+    for (int k = n - 1; k >= 0; --k) order = order << 4 | uint32_t(octant[k] | kOrderInUse);
+    return order;
+}
+
+OCT_HD inline uint32_t nearFirstOrder(const float* tEnter, uint32_t hitMask) {
+#if defined(__CUDA_ARCH__)
+    return nearFirstOrderByRank(tEnter, hitMask);
+#else
+    return nearFirstOrderBySort(tEnter, hitMask);
+#endif
+}
+
+// Depth-first traversal, one state entry a level (above); the builder refuses depths beyond
+// kMaxOctreeDepth, which bounds the levels.
 // kAnyHit: stop at the first primitive hit in [tmin, tmax] (shadow rays).
 // OctView needs: root(obs) -> const OctreeNode* (null: no tree), child(node, key, octant, obs)
-// -> const OctreeNode* (null: absent), and the members primIndices (ArraySpan) and prims.
+// -> const OctreeNode* (null: absent), records() (the array they point into), and the members
+// primIndices (ArraySpan) and prims.
 // child() must never hand back a node the walk has passed (linear: an index after the parent's
 // and inside the array; hash: the node whose key is the child key, and keys only grow), so the
 // walk cannot cycle and its work is bounded by the tree; a wrong but in-order node (a faulty
@@ -55,67 +108,96 @@ OCT_HD inline void sortFarToNear(StackEntry* e, int n) {
 // step (traversal_observer.h); the kernels pass NoObserver.
 template <bool kAnyHit, class OctView, class Obs>
 OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost, Obs& obs) {
+    constexpr bool kSilent = std::is_same<Obs, NoObserver>::value;
     PreparedRay q = prepareRay(r);
     Hit best = initialHit(r);
-    StackEntry stack[kTraversalStackSize];
-    int top = 0;
+    uint32_t levelNode[kMaxOctreeDepth];   // the internal node of each level (index)
+    uint32_t levelOrder[kMaxOctreeDepth];  // its children left (order word, above)
+    int levels = 0;
 
-    const OctreeNode* root = v.root(obs);
-    float t0, t1;
+    const OctreeNode* at = v.root(obs);
+    float tEnter, t1;
     ++cost.nodesVisited;
-    if (root == nullptr) {
+    if (at == nullptr) {
         obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
     }
-    const OctreeNode& rn = loadReadOnly(root);
+    const OctreeNode& rn = loadReadOnly(at);
     if (rn.key != kRootKey) return faultHit();
-    const bool rootHit = intersectBox(q.slabs, rn.box, r.tmin, r.tmax, t0, t1);
-    obs.boxTested(kRootKey, 0, rn.box, rootHit, t0, t1);
+    const bool rootHit = intersectBox(q.slabs, rn.box, r.tmin, r.tmax, tEnter, t1);
+    obs.boxTested(kRootKey, 0, rn.box, rootHit, tEnter, t1);
     if (!rootHit) return missHit();
-    stack[top++] = {root, t0};
 
-    while (top > 0) {
-        StackEntry e = stack[--top];
-        const OctreeNode& n = loadReadOnly(e.node);
-        if (e.tEnter > best.t) {  // a nearer hit is already known
-            obs.nodePopped(n.key, e.tEnter, false);
-            continue;
-        }
-        obs.nodePopped(n.key, e.tEnter, true);
-        NodeType type = n.nodeType();
-        if (type == NodeType::Leaf) {
-            const LeafOutcome out = testLeafList<kAnyHit>(v.primIndices, n.primOffset, n.primCount,
-                                                          v.prims, q, best, cost, obs);
-            if (out == LeafOutcome::Fault) return faultHit();
-            if (out == LeafOutcome::Found) return best;
-            continue;
-        }
-        if (type != NodeType::Internal) continue;
-        StackEntry kids[8];
-        int count = 0;
-        for (int i = 0; i < 8; ++i) {
-            const OctreeNode* c = v.child(e.node, n.key, i, obs);
-            // Empty leaves and absent nodes hold nothing to hit.
-            if (c == nullptr) {
-                obs.childSkipped(childKey(n.key, i), SkipReason::Absent);
-                continue;
+    for (;;) {
+        const OctreeNode& n = loadReadOnly(at);
+        if (tEnter > best.t) {  // a nearer hit is already known
+            obs.nodePopped(n.key, tEnter, false);
+            // Its siblings left are entered no nearer (nearest first): without an observer to
+            // tell of each, drop them together. (The root is never dropped: tEnter <= tmax.)
+            if (kSilent) levelOrder[levels - 1] = 0;
+        } else {
+            obs.nodePopped(n.key, tEnter, true);
+            const NodeType type = n.nodeType();
+            if (type == NodeType::Leaf) {
+                const LeafOutcome out = testLeafList<kAnyHit>(
+                    v.primIndices, n.primOffset, n.primCount, v.prims, q, best, cost, obs);
+                if (out == LeafOutcome::Fault) return faultHit();
+                if (out == LeafOutcome::Found) return best;
+            } else if (type == NodeType::Internal) {
+                float childEnter[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+                uint32_t hitMask = 0;
+                for (int i = 0; i < 8; ++i) {
+                    const OctreeNode* c = v.child(at, n.key, i, obs);
+                    // Empty leaves and absent nodes hold nothing to hit.
+                    if (c == nullptr) {
+                        obs.childSkipped(childKey(n.key, i), SkipReason::Absent);
+                        continue;
+                    }
+                    const OctreeNode& cn = loadReadOnly(c);
+                    const NodeType ct = cn.nodeType();
+                    if (ct != NodeType::Leaf && ct != NodeType::Internal) {
+                        obs.childSkipped(childKey(n.key, i), ct == NodeType::EmptyLeaf
+                                                                 ? SkipReason::Empty
+                                                                 : SkipReason::Absent);
+                        continue;
+                    }
+                    ++cost.nodesVisited;
+                    float c0, c1;
+                    const bool hit = intersectBox(q.slabs, cn.box, r.tmin, best.t, c0, c1);
+                    obs.boxTested(childKey(n.key, i), cn.depth, cn.box, hit, c0, c1);
+                    if (hit) {
+                        childEnter[i] = c0;
+                        hitMask |= 1u << i;
+                    }
+                }
+                if (hitMask != 0) {
+                    // One level a node on the path (bounding the depth, so the walk ends even
+                    // on a broken tree); the nearest child is visited at once, with the
+                    // pointer and entry t just found, and the rest wait at this level.
+                    if (levels == kMaxOctreeDepth) return faultHit();  // deeper than allowed
+                    const uint32_t order = nearFirstOrder(childEnter, hitMask);
+                    const int nearest = int(order & 7u);
+                    levelNode[levels] = uint32_t(at - v.records());
+                    levelOrder[levels] = order >> 4;
+                    ++levels;
+                    NoObserver silent;  // the observer saw this lookup a moment ago
+                    at = v.child(at, n.key, nearest, silent);
+                    tEnter = childEnter[nearest];
+                    continue;
+                }
             }
-            const OctreeNode& cn = loadReadOnly(c);
-            NodeType ct = cn.nodeType();
-            if (ct != NodeType::Leaf && ct != NodeType::Internal) {
-                obs.childSkipped(childKey(n.key, i), ct == NodeType::EmptyLeaf
-                                                         ? SkipReason::Empty
-                                                         : SkipReason::Absent);
-                continue;
-            }
-            ++cost.nodesVisited;
-            const bool hit = intersectBox(q.slabs, cn.box, r.tmin, best.t, t0, t1);
-            obs.boxTested(childKey(n.key, i), cn.depth, cn.box, hit, t0, t1);
-            if (hit) kids[count++] = {c, t0};
         }
-        sortFarToNear(kids, count);
-        if (top + count > kTraversalStackSize) return faultHit();  // deeper than the builder allows
-        for (int i = 0; i < count; ++i) stack[top++] = kids[i];
+        // Next: the nearest child left at the deepest level that has one.
+        while (levels > 0 && levelOrder[levels - 1] == 0) --levels;
+        if (levels == 0) break;
+        const int octant = int(levelOrder[levels - 1] & 7u);
+        levelOrder[levels - 1] >>= 4;
+        const OctreeNode* parent = v.records() + levelNode[levels - 1];
+        NoObserver silent;  // the observer saw this lookup when the child was tested
+        at = v.child(parent, loadReadOnly(parent).key, octant, silent);
+        // The same box and ray as its first test: the same entry t (the interval's near end
+        // does not depend on tmax).
+        intersectBox(q.slabs, loadReadOnly(at).box, r.tmin, best.t, tEnter, t1);
     }
     return finishHit(best);
 }

@@ -507,6 +507,15 @@ TEST(Linear, BudgetRefusalNamesTheBytes) {
         EXPECT_NE(msg.find(std::to_string(deepBytes)), std::string::npos) << msg;
         EXPECT_NE(msg.find("budget"), std::string::npos) << msg;
     }
+    // Within any budget but past the 2^32 records the traversal indexes (depth 11: 9.8 Gi):
+    // refused for that, before any allocation.
+    deep.depth = 11;
+    try {
+        buildLinear(deep, ~uint64_t(0) - 1);
+        ADD_FAILURE() << "no refusal of a linear octree of depth 11";
+    } catch (const OctreeError& e) {
+        EXPECT_NE(std::string(e.what()).find("more than the 2^32"), std::string::npos) << e.what();
+    }
     // Beyond 64 bits the figure saturates and is still refused.
     deep.depth = 21;
     EXPECT_THROW(buildLinear(deep, ~uint64_t(0) - 1), OctreeError);

@@ -342,6 +342,77 @@ TEST(TraversalVsExhaustive, BunnyIfFetched) {
     checkScene(loadScene(path), {{7, 8}}, 60, 5);
 }
 
+// The traversal keeps one entry a level (traversal.h, compact_octree.h), sized for the deepest
+// tree the builder allows: a tree whose leaves reach depth kMaxOctreeDepth must be walked to the
+// bottom with every level in use. Tiny triangles at distances 2^-k (k = 1 .. 22) from a point
+// off every split plane stay together in a cell until its size is about their distance, so with
+// one primitive a leaf the cells around the point are split down to the deepest level; one
+// floor triangle gives the rays something to hit (two sharing an edge would split every cell
+// along it to the bottom).
+TEST(TraversalVsExhaustive, TreeDownToTheDeepestLevel) {
+    Scene s;
+    s.name = "staircase to depth 21";
+    s.kind = PrimKind::Triangles;
+    s.triangles.push_back({{0, 0, 0}, {2, 0, 0}, {0, 2, 0}});
+    s.triangles.push_back({{0, 0, 1}, {0.01f, 0, 1}, {0, 0.01f, 1}});
+    const Vec3 c = {0.3f, 0.35f, 0.4f};
+    constexpr int kSteps = 22;
+    for (int k = 1; k <= kSteps; ++k) {
+        const float d = std::ldexp(1.0f, -k), e = d / 4;
+        const Vec3 p = c + Vec3{d, 0, 0};
+        s.triangles.push_back({p, p + Vec3{e, 0, 0}, p + Vec3{0, e, e}});
+    }
+    Octree t = buildOctree(s, {kMaxOctreeDepth, 1});
+    ASSERT_EQ(t.depth, kMaxOctreeDepth);
+    checkScene(s, {{kMaxOctreeDepth, 1}, {kMaxOctreeDepth, 2}}, 400, 11);
+    // And rays that go down the staircase: from above each step, straight at it.
+    const PrimitivesView prims = primitivesView(s);
+    RaySet steps;
+    for (int k = 1; k <= kSteps; ++k) {
+        const float d = std::ldexp(1.0f, -k), e = d / 4;
+        steps.rays.push_back({c + Vec3{d + e / 4, e / 8, 2}, {0, 0, -1}, 0, INFINITY});
+    }
+    steps = traceExhaustive(exhaustiveView(prims), steps.rays, "down the staircase");
+    auto tree = std::make_shared<const Octree>(std::move(t));
+    compareLayouts(s, tree, {&steps});
+}
+
+// The order the node-record traversal visits hit children in (traversal.h, nearFirstOrder): the
+// nearest first, ties to the higher octant, as a stable far-to-near sort popped from a stack
+// would give. Both forms (the device's counting, the host's insertion) against that sort, for
+// every hit mask and entry t drawn from few values (many ties).
+TEST(TraversalOrder, BothFormsVisitNearestFirstTiesToTheHigherOctant) {
+    std::mt19937_64 rng(12);
+    for (uint32_t mask = 0; mask < 256; ++mask) {
+        for (int trial = 0; trial < 40; ++trial) {
+            float t[8];
+            for (float& x : t) x = float(rng() % 4) * 0.5f - 0.25f;
+            std::vector<std::pair<float, int>> hits;  // ascending octant, then a stable sort
+            for (int i = 0; i < 8; ++i)
+                if (mask >> i & 1u) hits.push_back({t[i], i});
+            std::stable_sort(hits.begin(), hits.end(),
+                             [](const auto& a, const auto& b) { return a.first > b.first; });
+            uint32_t want = 0;  // popped from the back: nearest first, ties the higher octant
+            for (size_t k = 0; k < hits.size(); ++k)
+                want |= uint32_t(hits[hits.size() - 1 - k].second | 8) << (4 * k);
+            ASSERT_EQ(nearFirstOrderByRank(t, mask), want) << "mask " << mask;
+            ASSERT_EQ(nearFirstOrderBySort(t, mask), want) << "mask " << mask;
+        }
+    }
+}
+
+// Vec3's run-time component access (the triangle test's permutation) on temporaries and named
+// vectors alike: the access once indexed past a member, which one compiler misread.
+TEST(Vec3Components, ReadAndWriteByIndex) {
+    const auto make = [](float a) { return Vec3{a, a + 1, a + 2}; };
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(make(10)[i], 10.0f + float(i));
+    Vec3 v = {1, 2, 3};
+    for (int i = 0; i < 3; ++i) v[i] = v[i] * 2;
+    EXPECT_EQ(v.x, 2.0f);
+    EXPECT_EQ(v.y, 4.0f);
+    EXPECT_EQ(v.z, 6.0f);
+}
+
 // Regression: initialHit() starts the search with best = {tmax, -1}, and considerPrimitive()
 // once accepted an equal t only for a lower primitive id than best.prim (-1), so closestHit()
 // dropped a hit at exactly tmax that intersectTriangle() accepts and anyHit() reports.
