@@ -12,15 +12,24 @@
 
 namespace oct {
 
+// Every kernel runs in blocks of kBlockThreads threads and is compiled for at least
+// kMinBlocksPerSm resident blocks a multiprocessor: 1,024 threads, so ptxas keeps a thread within
+// 65,536 / 1,024 = 64 registers (Hopper's register file), the budget scripts/check-gpu-budget
+// holds every kernel to, with its stack (at most 512 bytes).
+constexpr int kBlockThreads = 128;
+constexpr int kMinBlocksPerSm = 8;
+
 template <class Accel>
-__global__ void renderKernel(FrameParams p, Accel accel, PrimitivesView prims, FilmView film) {
+__global__ void __launch_bounds__(kBlockThreads, kMinBlocksPerSm)
+    renderKernel(FrameParams p, Accel accel, PrimitivesView prims, FilmView film) {
     int x = blockIdx.x * blockDim.x + threadIdx.x;
     int y = blockIdx.y * blockDim.y + threadIdx.y;
     if (x < p.width && y < p.height) renderPixel(x, y, p, accel, prims, film);
 }
 
 template <class Accel>
-__global__ void traceKernel(Accel accel, RayBatchView batch) {
+__global__ void __launch_bounds__(kBlockThreads, kMinBlocksPerSm)
+    traceKernel(Accel accel, RayBatchView batch) {
     uint64_t i = uint64_t(blockIdx.x) * blockDim.x + threadIdx.x;
     if (i < batch.count) traceRayAt(i, accel, batch);
 }
@@ -162,7 +171,7 @@ public:
     std::vector<double> render(const FrameParams& p, Film& film, int warmup, int repeats) override {
         film = Film(p.width, p.height);
         DeviceFilm dfilm(film.pixelCount());
-        dim3 block(16, 8);
+        dim3 block(16, kBlockThreads / 16);
         dim3 grid((p.width + block.x - 1) / block.x, (p.height + block.y - 1) / block.y);
         FilmView fv = dfilm.view(p.width, p.height);
         std::vector<double> times;
@@ -203,7 +212,7 @@ public:
         }
         double seconds = 0.0;
         if (batch.count > 0) {
-            unsigned block = 128;
+            unsigned block = kBlockThreads;
             unsigned grid = unsigned((batch.count + block - 1) / block);
             EventTimer timer;
             scene_->visit([&](auto view) {

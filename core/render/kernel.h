@@ -18,10 +18,10 @@ namespace oct {
 OCT_HD inline Vec3 hitNormal(const PrimitivesView& p, int32_t prim, Vec3 pos, Vec3 dir) {
     Vec3 n;
     if (p.kind == PrimKind::Triangles) {
-        const Triangle& t = p.tris[prim];
+        const Triangle& t = loadReadOnly(p.tris + prim);  // as every primitive read (platform.h)
         n = cross(t.v1 - t.v0, t.v2 - t.v0);
     } else {
-        n = pos - p.spheres[prim].center;
+        n = pos - loadReadOnly(p.spheres + prim).center;
     }
     n = normalize(n);
     return dot(n, dir) > 0.0f ? -n : n;
