@@ -143,6 +143,7 @@ std::vector<SceneSpec> sceneList(const BenchOptions& o, std::vector<std::string>
 }
 
 void runBench(BenchOptions o, CLI::App* cmd) {
+    if (!o.rays.empty()) return runRayBenchCommand(o, *cmd);
     // A baseline's backends are its own (or --backend's): no device is added to them.
     const bool backendsGiven = cmd->count("--backend") > 0 || !o.baseline.empty();
     if (o.quick) {
@@ -275,10 +276,12 @@ void registerBench(CLI::App& app) {
                     "Where the default meshes are (default: ./meshes, else the meshes/ folder "
                     "above the octrace binary)");
     cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
-    cmd->add_option("--repeats", o->repeats, "Timed frames per case (median, min, max)")
+    cmd->add_option("--repeats,--rounds", o->repeats,
+                    "Timed frames per case (median, min, max); with --rays, timed rounds")
         ->capture_default_str()
         ->check(numberIn(1, 1000));
-    cmd->add_option("--warmup", o->warmup, "Untimed frames before the timed ones")
+    cmd->add_option("--warmup", o->warmup,
+                    "Untimed frames before the timed ones; with --rays, untimed rounds")
         ->capture_default_str()
         ->check(numberIn(0, 1000));
     cmd->add_option("--max-seconds", o->maxSeconds,
@@ -320,6 +323,22 @@ void registerBench(CLI::App& app) {
                   "Trace each timed frame of our layouts next to one of Embree's, on the process's "
                   "CPU clock; ratio_to_embree is the median of the pairs' ratios (with --threads "
                   "1 it survives a loaded machine)");
+    // The ray bench: the user's rays on one scene instead of the sweep's frames, so the sweep's
+    // scenes, frame size, time budget and baseline do not apply and are refused beside --rays.
+    CLI::Option* rays =
+        cmd->add_option("--rays", o->rays,
+                        "Ray bench instead of the sweep: trace this float32 (N, 8) .npy (as "
+                        "octrace trace reads) on --scene through every layout of --accel (default: "
+                        "those with an octree) and each backend (default: cpu, Embree robust and "
+                        "fast) in interleaved rounds; writes rays-bench.json and rays-bench.csv");
+    CLI::Option* scene =
+        cmd->add_option("--scene", o->scene, "With --rays: the scene file the rays are traced on");
+    rays->needs(scene);
+    scene->needs(rays);
+    for (const char* sweepOnly :
+         {"--quick", "--clouds", "--meshes", "--meshes-dir", "--size", "--max-seconds", "--seed",
+          "--cloud-max-prims", "--baseline", "--update", "--max-slowdown", "--paired-reference"})
+        rays->excludes(cmd->get_option(sweepOnly));
     cmd->callback([o, cmd] { runBench(*o, cmd); });
 }
 
