@@ -258,10 +258,14 @@ void registerBench(CLI::App& app) {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* cmd = app.add_subcommand(
         "bench",
-        "Sweep grid clouds and meshes over layouts and backends; write bench.csv and bench.json");
+        "Sweep grid clouds and meshes over layouts and backends; write bench.csv and bench.json "
+        "(with --rays: one ray file through every layout and Embree; rays-bench.json, .csv)");
     cmd->add_flag("--quick", o->quick,
                   "Small smoke sweep (clouds 1k,2k,4k; cornell_box, teapot; 128x128; 2 repeats)");
-    cmd->add_option("--out", o->out, "Folder for bench.csv and bench.json")->capture_default_str();
+    cmd->add_option("--out", o->out,
+                    "Folder for bench.csv and bench.json (with --rays: rays-bench.json and "
+                    "rays-bench.csv)")
+        ->capture_default_str();
     addTraceOptions(*cmd, o->trace,
                     "Comma list of backends: " + backendNames() +
                         " (default: cpu,embree, plus cuda when a device answers)");
