@@ -42,7 +42,17 @@ struct BenchOptions {
     std::string baseline;                      // --baseline FILE
     bool update = false;                       // --update: rewrite FILE from this run
     double maxSlowdown = kBaselineTimeFactor;  // --max-slowdown: BaselineRule::timeFactor
+    std::string rays;                          // --rays R.npy: the ray bench instead of the sweep
+    std::string scene;                         // --scene MESH: the scene of --rays
 };
+
+// The ray bench (apps/bench_rays.cpp, bench/sweep/ray_bench.h): o.rays traced on o.scene
+// through every layout of --accel (default: those with an octree) on each backend of --backend
+// (default: the host kernel, every backend with its own structure, an accelerator that
+// answers), --warmup + --repeats interleaved rounds; prints the table and writes
+// DIR/rays-bench.json and DIR/rays-bench.csv. Throws CommandVerdict kExitFail when a case that
+// must agree exactly on hits does not (after writing the files).
+void runRayBenchCommand(const BenchOptions& o, const CLI::App& cmd);
 
 // What --baseline brings to a run: the stored file (none when --update makes a new one) and
 // the cases of the file that cannot run here (a backend not available, a mesh not found).

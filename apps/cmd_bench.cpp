@@ -143,6 +143,7 @@ std::vector<SceneSpec> sceneList(const BenchOptions& o, std::vector<std::string>
 }
 
 void runBench(BenchOptions o, CLI::App* cmd) {
+    if (!o.rays.empty()) return runRayBenchCommand(o, *cmd);
     // A baseline's backends are its own (or --backend's): no device is added to them.
     const bool backendsGiven = cmd->count("--backend") > 0 || !o.baseline.empty();
     if (o.quick) {
@@ -257,10 +258,14 @@ void registerBench(CLI::App& app) {
     auto o = std::make_shared<BenchOptions>();
     CLI::App* cmd = app.add_subcommand(
         "bench",
-        "Sweep grid clouds and meshes over layouts and backends; write bench.csv and bench.json");
+        "Sweep grid clouds and meshes over layouts and backends; write bench.csv and bench.json "
+        "(with --rays: one ray file through every layout and Embree; rays-bench.json, .csv)");
     cmd->add_flag("--quick", o->quick,
                   "Small smoke sweep (clouds 1k,2k,4k; cornell_box, teapot; 128x128; 2 repeats)");
-    cmd->add_option("--out", o->out, "Folder for bench.csv and bench.json")->capture_default_str();
+    cmd->add_option("--out", o->out,
+                    "Folder for bench.csv and bench.json (with --rays: rays-bench.json and "
+                    "rays-bench.csv)")
+        ->capture_default_str();
     addTraceOptions(*cmd, o->trace,
                     "Comma list of backends: " + backendNames() +
                         " (default: cpu,embree, plus cuda when a device answers)");
@@ -275,10 +280,12 @@ void registerBench(CLI::App& app) {
                     "Where the default meshes are (default: ./meshes, else the meshes/ folder "
                     "above the octrace binary)");
     cmd->add_option("--size", o->size, "Image size WxH")->capture_default_str();
-    cmd->add_option("--repeats", o->repeats, "Timed frames per case (median, min, max)")
+    cmd->add_option("--repeats,--rounds", o->repeats,
+                    "Timed frames per case (median, min, max); with --rays, timed rounds")
         ->capture_default_str()
         ->check(numberIn(1, 1000));
-    cmd->add_option("--warmup", o->warmup, "Untimed frames before the timed ones")
+    cmd->add_option("--warmup", o->warmup,
+                    "Untimed frames before the timed ones; with --rays, untimed rounds")
         ->capture_default_str()
         ->check(numberIn(0, 1000));
     cmd->add_option("--max-seconds", o->maxSeconds,
@@ -320,6 +327,22 @@ void registerBench(CLI::App& app) {
                   "Trace each timed frame of our layouts next to one of Embree's, on the process's "
                   "CPU clock; ratio_to_embree is the median of the pairs' ratios (with --threads "
                   "1 it survives a loaded machine)");
+    // The ray bench: the user's rays on one scene instead of the sweep's frames, so the sweep's
+    // scenes, frame size, time budget and baseline do not apply and are refused beside --rays.
+    CLI::Option* rays =
+        cmd->add_option("--rays", o->rays,
+                        "Ray bench instead of the sweep: trace this float32 (N, 8) .npy (as "
+                        "octrace trace reads) on --scene through every layout of --accel (default: "
+                        "those with an octree) and each backend (default: cpu, Embree robust and "
+                        "fast) in interleaved rounds; writes rays-bench.json and rays-bench.csv");
+    CLI::Option* scene =
+        cmd->add_option("--scene", o->scene, "With --rays: the scene file the rays are traced on");
+    rays->needs(scene);
+    scene->needs(rays);
+    for (const char* sweepOnly :
+         {"--quick", "--clouds", "--meshes", "--meshes-dir", "--size", "--max-seconds", "--seed",
+          "--cloud-max-prims", "--baseline", "--update", "--max-slowdown", "--paired-reference"})
+        rays->excludes(cmd->get_option(sweepOnly));
     cmd->callback([o, cmd] { runBench(*o, cmd); });
 }
 
