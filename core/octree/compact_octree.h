@@ -196,15 +196,6 @@ OCT_HD inline uint32_t xorPermute(uint32_t m, int flip) {
     return m;
 }
 
-// Index of the lowest set bit of a non-zero mask.
-OCT_HD inline int lowestBit(uint32_t m) {
-#if defined(__CUDA_ARCH__)
-    return __ffs(m) - 1;
-#else
-    return __builtin_ctz(m);
-#endif
-}
-
 // Index of the highest set bit of a non-zero mask.
 OCT_HD inline int highestBit(uint32_t m) {
 #if defined(__CUDA_ARCH__)
@@ -318,7 +309,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                     // breadth first, so every child lies after its parent and inside the array
                     // (else the structure is broken: fail, and never cycle). Records grow
                     // with the octant: the lowest and highest hit children bound them all.
-                    const uint32_t first = compactChildIndex(n, compact_detail::lowestBit(hitMask));
+                    const uint32_t first = compactChildIndex(n, lowestBit(hitMask));
                     const uint32_t last = compactChildIndex(n, compact_detail::highestBit(hitMask));
                     if (first <= index || last >= v.nodes.count) return faultHit();
                     if (levels == kMaxOctreeDepth) return faultHit();  // deeper than allowed
@@ -330,7 +321,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                     // The nearest child is visited at once, with the entry t just found; the
                     // rest wait at this level (one level a node on the path, bounding the depth).
                     const uint32_t order = compact_detail::xorPermute(hitMask, dirMask);
-                    const int i = compact_detail::lowestBit(order) ^ dirMask;
+                    const int i = lowestBit(order) ^ dirMask;
                     levelFirst[levels] = n.firstChild();
                     levelMasks[levels] = mask | leafMask << 8 | (order & (order - 1u)) << 16;
                     ++levels;
@@ -356,7 +347,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             levelBoxDepth = parentDepth;
         }
         const uint32_t masks = levelMasks[parentDepth];
-        const int j = compact_detail::lowestBit(masks >> 16);
+        const int j = lowestBit(masks >> 16);
         levelMasks[parentDepth] = masks ^ (1u << (16 + j));
         const int i = j ^ dirMask;
         index =
@@ -366,7 +357,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         depth = parentDepth + 1;
         box = childBox(levelBox, i);
         if (!kSilent || v.bounds.count == 0)  // the same entry t as its test among its siblings
-            intersectBox(q.slabs, box, r.tmin, best.t, tEnter, t1);
+            tEnter = boxEntry(q.slabs, box, r.tmin);
     }
     return finishHit(best);
 }

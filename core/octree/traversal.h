@@ -38,6 +38,15 @@ namespace oct {
 // left at this level.
 constexpr uint32_t kOrderInUse = 8;
 
+// Index of the lowest set bit of a non-zero mask.
+OCT_HD inline int lowestBit(uint32_t m) {
+#if defined(__CUDA_ARCH__)
+    return __ffs(m) - 1;
+#else
+    return __builtin_ctz(m);
+#endif
+}
+
 // The order word of the children in `hitMask` entered at tEnter[i]: nearest first; equal entry
 // t, the higher octant first (the order in which a far-to-near sort of the octant-ordered
 // children, stable on ties, would pop them from a stack). Two ways to the same word, tested
@@ -69,8 +78,8 @@ OCT_HD inline uint32_t nearFirstOrderBySort(const float* tEnter, uint32_t hitMas
     float t[8];
     int octant[8];
     int n = 0;
-    for (int i = 0; i < 8; ++i) {
-        if (!((hitMask >> i) & 1u)) continue;
+    for (uint32_t m = hitMask & 0xffu; m != 0; m &= m - 1u) {
+        const int i = lowestBit(m);
         int j = n++;
         while (j > 0 && t[j - 1] >= tEnter[i]) {
             t[j] = t[j - 1];
@@ -197,7 +206,7 @@ OCT_HD inline Hit traverseOctree(const OctView& v, const Ray& r, TraceCost& cost
         at = v.child(parent, loadReadOnly(parent).key, octant, silent);
         // The same box and ray as its first test: the same entry t (the interval's near end
         // does not depend on tmax).
-        intersectBox(q.slabs, loadReadOnly(at).box, r.tmin, best.t, tEnter, t1);
+        tEnter = boxEntry(q.slabs, loadReadOnly(at).box, r.tmin);
     }
     return finishHit(best);
 }
