@@ -232,18 +232,16 @@ OCT_HD inline Aabb compactCellBox(const Aabb& rootBox, uint64_t key, int depth) 
 // comment). 21 levels x 8 bytes = 168 bytes, against a
 // 36-byte box and entry a pushed child (155 of them, 5.6 KB) before.
 //
-// Byte layout of a level entry (two uint32):
-//   firstChild  the parent record's firstChild
-//   masks       bits 0-7 childMask, 8-15 leafMask, 16-23 the hit children not yet visited, in
-//               front-to-back position j (octant j ^ dirMask), 24-31 zero
+// A level entry is the parent's own record (CompactNode, internal form), its zero bits 16-23
+// holding the hit children not yet visited, in front-to-back position j (octant j ^ dirMask),
+// so a child's record and leaf bit come from it as from the record (compactChildIndex).
 template <bool kAnyHit, class Obs>
 OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, TraceCost& cost,
                                   Obs& obs) {
     constexpr bool kSilent = std::is_same<Obs, NoObserver>::value;
     PreparedRay q = prepareRay(r);
     Hit best = initialHit(r);
-    uint32_t levelFirst[kMaxOctreeDepth];
-    uint32_t levelMasks[kMaxOctreeDepth];
+    CompactNode level[kMaxOctreeDepth];  // the internal node of each level, children left above
     int levels = 0;
 
     // Bit a set when the ray runs towards -a: octant order j ^ dirMask is front to back.
@@ -322,8 +320,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                     // rest wait at this level (one level a node on the path, bounding the depth).
                     const uint32_t order = compact_detail::xorPermute(hitMask, dirMask);
                     const int i = lowestBit(order) ^ dirMask;
-                    levelFirst[levels] = n.firstChild();
-                    levelMasks[levels] = mask | leafMask << 8 | (order & (order - 1u)) << 16;
+                    level[levels] = {n.a, n.b | (order & (order - 1u)) << 16};
                     ++levels;
                     levelBox = box;
                     levelBoxDepth = depth;
@@ -338,7 +335,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             }
         }
         // Next: the nearest child left at the deepest level that has one.
-        while (levels > 0 && (levelMasks[levels - 1] >> 16) == 0) --levels;
+        while (levels > 0 && (level[levels - 1].b >> 16) == 0) --levels;
         if (levels == 0) break;
         const int parentDepth = levels - 1;
         const uint64_t parentKey = key >> (3 * (depth - parentDepth));
@@ -346,13 +343,12 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             levelBox = compactCellBox(v.rootBox, parentKey, parentDepth);
             levelBoxDepth = parentDepth;
         }
-        const uint32_t masks = levelMasks[parentDepth];
-        const int j = lowestBit(masks >> 16);
-        levelMasks[parentDepth] = masks ^ (1u << (16 + j));
+        CompactNode& parent = level[parentDepth];
+        const int j = lowestBit(parent.b >> 16);
+        parent.b ^= 1u << (16 + j);
         const int i = j ^ dirMask;
-        index =
-            levelFirst[parentDepth] + compact_detail::bitCount8(masks & 0xffu & ((1u << i) - 1u));
-        leaf = ((masks >> (8 + i)) & 1u) != 0;
+        index = compactChildIndex(parent, i);
+        leaf = ((parent.leafMask() >> i) & 1u) != 0;
         key = childKey(parentKey, i);
         depth = parentDepth + 1;
         box = childBox(levelBox, i);
