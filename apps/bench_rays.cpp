@@ -17,6 +17,7 @@
 #include "bench/sweep/ray_bench.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "core/time_spread.h"
 
 namespace oct {
 namespace {
@@ -123,10 +124,6 @@ size_t caseCount(const RayBenchOptions& ro) {
     size_t ours = 0, own = 0;
     for (const BackendDesc* b : ro.backends) (b->usesLayouts ? ours : own) += 1;
     return ours * ro.layouts.size() + own;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace

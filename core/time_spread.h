@@ -1,11 +1,18 @@
 // Median, minimum and maximum of repeated timings: one rule for every backend, so CPU and CUDA
-// frame times compare like for like (octrace bench, renderCuda). Host code only.
+// frame times compare like for like (octrace bench, renderCuda); and the one wall-clock
+// interval every timing takes. Host code only.
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <vector>
 
 namespace oct {
+
+// Seconds of the steady clock since t0.
+inline double secondsSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 struct TimeSpread {
     double median = 0, min = 0, max = 0;

@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/time_spread.h"
 #include "gpu/cuda_backend.h"
 #include "gpu/device_buffer.h"
 
@@ -35,10 +36,6 @@ __global__ void __launch_bounds__(kBlockThreads, kMinBlocksPerSm)
 }
 
 namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The scene's primitives and the chosen layout's arrays in device memory, and the layout's View
 // re-pointed to them: every array the View lists (forEachArray) is uploaded by rebindArrays, and

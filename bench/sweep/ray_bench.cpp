@@ -60,10 +60,6 @@ auto namedStep(const std::string& what, F&& f) -> decltype(f()) {
     }
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 HitAgreement compareHits(const RayBenchCase& c, const RayBenchCase& with, uint64_t n) {
@@ -205,26 +201,13 @@ json caseJson(const RayBenchResult& r, const RayBenchCase& c) {
     return row;
 }
 
-std::string csvCell(const json& v) {
-    if (v.is_null()) return "";
-    if (v.is_string()) return v.get<std::string>();  // names: no commas or quotes
-    if (v.is_number_float()) return fmt("%.9g", v.get<double>());
-    return v.dump();
-}
-
+// The rows' scalar fields as columns (the per-round times, an array, stay in the JSON).
 std::string rayBenchCsv(const json& rows) {
-    std::string csv;
-    if (rows.empty()) return csv;
+    if (rows.empty()) return "";
     std::vector<std::string> keys;
-    for (auto it = rows[0].begin(); it != rows[0].end(); ++it)
-        if (!it->is_array()) keys.push_back(it.key());
-    for (size_t k = 0; k < keys.size(); ++k) csv += (k ? "," : "") + keys[k];
-    csv += "\n";
-    for (const json& row : rows) {
-        for (size_t k = 0; k < keys.size(); ++k) csv += (k ? "," : "") + csvCell(row[keys[k]]);
-        csv += "\n";
-    }
-    return csv;
+    for (const auto& field : rows[0].items())
+        if (!field.value().is_array()) keys.push_back(field.key());
+    return csvTable(keys, rows);
 }
 
 }  // namespace

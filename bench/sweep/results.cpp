@@ -88,6 +88,17 @@ json rowJson(const Row& r) {
             {"repeats", r.repeats}};
 }
 
+std::string csvTable(const std::vector<std::string>& keys, const json& rows) {
+    std::string csv;
+    for (size_t k = 0; k < keys.size(); ++k) csv += (k ? "," : "") + keys[k];
+    csv += "\n";
+    for (const json& row : rows) {
+        for (size_t k = 0; k < keys.size(); ++k) csv += (k ? "," : "") + csvCell(row[keys[k]]);
+        csv += "\n";
+    }
+    return csv;
+}
+
 void writeResults(const fs::path& dir, const json& machine, const json& config,
                   const std::vector<Row>& rows, bool complete) {
     json all = json::array();
@@ -99,23 +110,10 @@ void writeResults(const fs::path& dir, const json& machine, const json& config,
                 {"results", all}};
     writeAtomic(dir / "bench.json", doc.dump(2) + "\n");
 
-    std::string csv;
-    json header = rowJson(Row{});
-    bool first = true;
-    for (auto it = header.begin(); it != header.end(); ++it) {
-        csv += (first ? "" : ",") + it.key();
-        first = false;
-    }
-    csv += "\n";
-    for (const json& r : all) {
-        first = true;
-        for (auto it = header.begin(); it != header.end(); ++it) {
-            csv += (first ? "" : ",") + csvCell(r[it.key()]);
-            first = false;
-        }
-        csv += "\n";
-    }
-    writeAtomic(dir / "bench.csv", csv);
+    const json header = rowJson(Row{});
+    std::vector<std::string> keys;
+    for (const auto& field : header.items()) keys.push_back(field.key());
+    writeAtomic(dir / "bench.csv", csvTable(keys, all));
 }
 
 void fillFilmCounts(const Film& film, bool withCost, Row& r) {

@@ -48,6 +48,11 @@ void writeResults(const std::filesystem::path& dir, const nlohmann::ordered_json
                   const nlohmann::ordered_json& config, const std::vector<Row>& rows,
                   bool complete);
 
+// CSV of JSON rows: a header line of `keys`, then each row's fields under them (null: an empty
+// cell; a string holding a comma, quote or newline quoted, RFC 4180). bench.csv and the ray
+// bench's rays-bench.csv.
+std::string csvTable(const std::vector<std::string>& keys, const nlohmann::ordered_json& rows);
+
 // printf-style formatting of one number.
 std::string fmt(const char* format, double v);
 

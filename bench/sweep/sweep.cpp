@@ -28,10 +28,6 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::ordered_json;
 
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 // Runs f; a failure becomes the row's status instead of ending the sweep.
 template <class F>
 void protect(Row& r, F&& f) {

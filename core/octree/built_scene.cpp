@@ -2,14 +2,9 @@
 
 #include <chrono>
 
+#include "core/time_spread.h"
+
 namespace oct {
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 std::shared_ptr<const Octree> buildSharedOctree(const Scene& scene, const BuildParams& params) {
     return std::make_shared<const Octree>(buildOctree(scene, params));

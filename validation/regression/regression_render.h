@@ -13,6 +13,7 @@
 #include "core/render/film.h"
 #include "core/render/frame.h"
 #include "core/scene/scene.h"
+#include "core/time_spread.h"
 
 namespace oct {
 
@@ -79,9 +80,5 @@ T field(const nlohmann::json& j, const char* name, const std::string& file) {
     }
 }
 }  // namespace regression_detail
-
-inline double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
 
 }  // namespace oct
