@@ -11,7 +11,7 @@ public:
     double prepareSeconds() const override { return 0.0; }
     std::vector<double> render(const FrameParams& frame, Film& film, int warmup,
                                int repeats) override {
-        film = Film(frame.width, frame.height);
+        film = Film(frame.width, frameRows(frame));
         const FilmView fv = film.view();
         const PrimitivesView prims = scene_.prims();
         return timeFrames(warmup, repeats, [&] {

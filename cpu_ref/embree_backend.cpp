@@ -9,7 +9,7 @@ EmbreeSceneTracer::EmbreeSceneTracer(const BuiltScene& scene, bool robust)
 
 std::vector<double> EmbreeSceneTracer::render(const FrameParams& frame, Film& film, int warmup,
                                               int repeats) {
-    film = Film(frame.width, frame.height);
+    film = Film(frame.width, frameRows(frame));
     const FilmView fv = film.view();
     return timeFrames(warmup, repeats, [&] { renderFrameCpu(frame, embree_.accel(), prims_, fv); });
 }

@@ -18,8 +18,9 @@ void setCpuThreads(int threads);
 template <class Accel>
 void renderFrameCpu(const FrameParams& p, const Accel& accel, const PrimitivesView& prims,
                     FilmView film) {
+    const int end = p.bandBegin + frameRows(p);
 #pragma omp parallel for schedule(dynamic, 4)
-    for (int y = 0; y < p.height; ++y)
+    for (int y = p.bandBegin; y < end; ++y)
         for (int x = 0; x < p.width; ++x) renderPixel(x, y, p, accel, prims, film);
 }
 

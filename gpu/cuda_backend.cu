@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/system/launcher.h"
 #include "core/time_spread.h"
 #include "gpu/cuda_backend.h"
 #include "gpu/device_buffer.h"
@@ -24,8 +25,8 @@ template <class Accel>
 __global__ void __launch_bounds__(kBlockThreads, kMinBlocksPerSm)
     renderKernel(FrameParams p, Accel accel, PrimitivesView prims, FilmView film) {
     int x = blockIdx.x * blockDim.x + threadIdx.x;
-    int y = blockIdx.y * blockDim.y + threadIdx.y;
-    if (x < p.width && y < p.height) renderPixel(x, y, p, accel, prims, film);
+    int y = p.bandBegin + int(blockIdx.y * blockDim.y + threadIdx.y);
+    if (x < p.width && y < p.bandBegin + frameRows(p)) renderPixel(x, y, p, accel, prims, film);
 }
 
 template <class Accel>
@@ -129,6 +130,28 @@ private:
 
 }  // namespace
 
+namespace {
+
+// Under a launcher (mpirun, srun) each rank takes the GPU of its rank on the node, so K ranks on
+// a node of G GPUs share them round robin (core/system/launcher.h); device 0 otherwise. Returns
+// the device, or -1 when none can be selected (the caller's checks report why).
+int selectLocalDevice() {
+    int count = 0;
+    if (cudaGetDeviceCount(&count) != cudaSuccess || count == 0) {
+        cudaGetLastError();
+        return -1;
+    }
+    const LauncherPlacement place = launcherPlacement();
+    const int device = place.launched ? place.localRank % count : 0;
+    if (cudaSetDevice(device) != cudaSuccess) {
+        cudaGetLastError();
+        return -1;
+    }
+    return device;
+}
+
+}  // namespace
+
 bool cudaDevicePresent(std::string& why) {
     int count = 0;
     cudaError_t e = cudaGetDeviceCount(&count);
@@ -142,13 +165,23 @@ bool cudaDevicePresent(std::string& why) {
         why = "no CUDA device found";
         return false;
     }
+    const LauncherPlacement place = launcherPlacement();
+    const int device = selectLocalDevice();
+    if (device < 0) {
+        why = "cannot select a CUDA device";
+        return false;
+    }
     cudaDeviceProp prop;
-    if (cudaGetDeviceProperties(&prop, 0) != cudaSuccess) {
-        why = "cannot query CUDA device 0";
+    if (cudaGetDeviceProperties(&prop, device) != cudaSuccess) {
+        why = "cannot query CUDA device " + std::to_string(device);
         return false;
     }
     why = std::string(prop.name) + ", compute capability " + std::to_string(prop.major) + "." +
-          std::to_string(prop.minor);
+          std::to_string(prop.minor) +
+          (place.launched
+               ? ", device " + std::to_string(device) + " of the node's " + std::to_string(count) +
+                     " (local rank " + std::to_string(place.localRank) + ")"
+               : "");
     return true;
 }
 
@@ -166,11 +199,12 @@ public:
     double prepareSeconds() const override { return uploadSeconds_; }
 
     std::vector<double> render(const FrameParams& p, Film& film, int warmup, int repeats) override {
-        film = Film(p.width, p.height);
+        const int rows = frameRows(p);
+        film = Film(p.width, rows);
         DeviceFilm dfilm(film.pixelCount());
         dim3 block(16, kBlockThreads / 16);
-        dim3 grid((p.width + block.x - 1) / block.x, (p.height + block.y - 1) / block.y);
-        FilmView fv = dfilm.view(p.width, p.height);
+        dim3 grid((p.width + block.x - 1) / block.x, (rows + block.y - 1) / block.y);
+        FilmView fv = dfilm.view(p.width, rows);
         std::vector<double> times;
         EventTimer timer;
         const PrimitivesView prims = scene_->prims;
@@ -233,6 +267,7 @@ private:
 };
 
 std::unique_ptr<SceneTracer> prepareCuda(const BuiltScene& b) {
+    selectLocalDevice();
     return std::make_unique<CudaSceneTracer>(b);
 }
 

@@ -73,6 +73,12 @@ void InputFile::readExactly(void* into, size_t n) {
         throw IoError("cannot read '" + path_ + "': the file changed while it was read");
 }
 
+void InputFile::seekTo(uint64_t offset) {
+    if (::lseek(fd_, off_t(offset), SEEK_SET) != off_t(offset))
+        throw IoError("cannot seek to byte " + std::to_string(offset) + " of '" + path_ +
+                      "': " + std::strerror(errno));
+}
+
 bool InputFile::atEnd() {
     char extra;
     return read(&extra, 1) == 0;

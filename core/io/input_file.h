@@ -33,6 +33,9 @@ public:
     void readExactly(void* into, size_t n);
     // True when no byte is left; a file that grew since it was opened is refused by the caller.
     bool atEnd();
+    // Moves the next read to byte `offset` from the start (an MPI rank's slice of a ray file).
+    // Throws IoError naming the file when the seek fails.
+    void seekTo(uint64_t offset);
 
 private:
     std::string path_;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/geometry/numeric_range.h"
 #include "core/io/input_file.h"
@@ -72,6 +73,17 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
 }  // namespace
 
 uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate) {
+    return readRayFileRowsInto(
+        path,
+        [](uint64_t rows) {
+            return RowSpan{0, rows};
+        },
+        allocate);
+}
+
+uint64_t readRayFileRowsInto(const std::string& path,
+                             const std::function<RowSpan(uint64_t rows)>& rowsOf,
+                             const std::function<float*(uint64_t)>& allocate) {
     InputFile in(path, "the ray file", "save the rays with numpy.save and give that file");
     const uint64_t fileSize = in.size();
 
@@ -90,17 +102,24 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
                       " data bytes but the file has " + std::to_string(available) +
                       " (truncated or wrong header)");
 
-    float* rays = allocate(rows);  // the final buffer: read into directly, one pass
-    if (in.read(rays, available) != available || !in.atEnd())
+    const RowSpan span = rowsOf(rows);
+    if (span.begin > span.end || span.end > rows)
+        throw std::invalid_argument("readRayFileRowsInto: rows " + std::to_string(span.begin) +
+                                    ".." + std::to_string(span.end) + " of " +
+                                    std::to_string(rows));
+    const uint64_t mine = span.end - span.begin;
+    float* rays = allocate(mine);  // the final buffer: read into directly, one pass
+    if (span.begin > 0) in.seekTo(h.dataStart + span.begin * 32);
+    if (in.read(rays, mine * 32) != mine * 32 || (span.end == rows && !in.atEnd()))
         bad(path, "the file changed while it was read");
-    checkRayRows(rays, rows, "'" + path + "'");
+    checkRayRows(rays, mine, "'" + path + "'", span.begin);
     return rows;
 }
 
-void checkRayRows(const float* rays, uint64_t rows, const std::string& what) {
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what, uint64_t firstRow) {
     const uint64_t first = firstBadRow(rays, rows);
     if (first < rows)
-        throw IoError(what + " row " + std::to_string(first) + ": " +
+        throw IoError(what + " row " + std::to_string(firstRow + first) + ": " +
                       rayRowProblem(&rays[8 * first]));
 }
 

@@ -29,6 +29,18 @@ std::vector<float> readRayFile(const std::string& path);
 // Returns the row count.
 uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate);
 
+// One MPI rank's rows of the file (dist/): rowsOf(N), given the row count N the header declares,
+// names the rows [begin, end) to read, and allocate(end - begin) the room for them. The header
+// and the data size are checked as readRayFileInto checks them, the rows read with one seek and
+// checked by the same rule, a bad one named by its row in the file ("row I"): so the lowest
+// rank that fails names the row a whole read names. No rank holds all rays. Returns N.
+struct RowSpan {
+    uint64_t begin = 0, end = 0;
+};
+uint64_t readRayFileRowsInto(const std::string& path,
+                             const std::function<RowSpan(uint64_t rows)>& rowsOf,
+                             const std::function<float*(uint64_t)>& allocate);
+
 // Why row r (8 floats) cannot be traced, or "" when it can. The rule (the numeric range of
 // core/geometry/numeric_range.h, the same for every backend): the origin finite and within
 // +-kMaxRayOrigin; the direction finite with its largest |component| within
@@ -37,6 +49,7 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
 std::string rayRowProblem(const float* r);
 // Every row of rays (rows x 8 floats) by that rule, as the reader checks a file's: throws IoError
 // "WHAT row I: why" for the first that breaks it (`what` names the rays: the file in quotes).
-void checkRayRows(const float* rays, uint64_t rows, const std::string& what);
+// `firstRow`: the file's index of rays' first row, for the message.
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what, uint64_t firstRow = 0);
 
 }  // namespace oct

@@ -32,7 +32,15 @@ struct FrameParams {
     int height;
     Camera camera;
     ShadingParams shading;
+    // A band of the image: rows [bandBegin, bandBegin + bandRows) are rendered, into a Film of
+    // bandRows rows (MPI ranks split a frame so, dist/). 0 rows: the whole image. A pixel's rays
+    // depend on (x, y, width, height) only, so a band's pixels equal the whole frame's.
+    int bandBegin = 0;
+    int bandRows = 0;
 };
+
+// The rows a frame renders (its band's, or the image's).
+OCT_HD inline int frameRows(const FrameParams& p) { return p.bandRows > 0 ? p.bandRows : p.height; }
 
 OCT_HD inline Ray primaryRay(const Camera& c, int x, int y, int width, int height) {
     // Pixel centres; row 0 at the top of the image.
