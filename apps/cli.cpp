@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "core/io/output_file.h"
@@ -14,6 +15,7 @@
 #include "core/scene/scene_formats.h"
 #include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
+#include "dist/ranks.h"
 
 namespace oct {
 
@@ -314,40 +316,90 @@ void registerCommands(CLI::App& app) {
     registerExplain(app);
 }
 
-int runCli(int argc, char** argv) {
+namespace {
+
+// How a rank's run of the command ended.
+enum class Ending {
+    Done,     // the command returned, or ended on its verdict (CommandVerdict) as every rank does
+    Failed,   // an error of this rank's (bad input, out of memory): the other ranks must learn it
+    Learned,  // another rank's error, already agreed on (RankFailed)
+};
+
+// One run of the command line on this rank: its exit status, and the line it ends with on
+// standard error ("" for none).
+int runCommand(int argc, char** argv, std::string& line, Ending& ending) {
     CLI::App app{
         "octrace: octree ray tracing after Barboza & Clua (SBGames 2011), with an "
         "OpenMP and a CUDA backend running one kernel, and Embree as ground truth"};
     app.require_subcommand(1);
     registerCommands(app);
+    ending = Ending::Failed;
     // Every exit status is chosen here (cli.h, kExitSuccess .. kExitIncomplete).
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
+        ending = Ending::Done;
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
+        ending = Ending::Done;
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << "octrace: error: " << e.what() << " (see --help)\n";
+        line = std::string("octrace: error: ") + e.what() + " (see --help)";
         return kExitError;
     } catch (const CommandVerdict& e) {
-        std::cerr << "octrace: " << e.what() << "\n";
+        ending = Ending::Done;
+        line = std::string("octrace: ") + e.what();
+        return e.status();
+    } catch (const RankFailed& e) {
+        ending = Ending::Learned;  // rank 0 prints the failed rank's line
+        line = e.line();
         return e.status();
     } catch (const std::bad_alloc&) {
         const std::vector<CLI::App*> ran = app.get_subcommands();
-        std::cerr << "octrace: error: " << outOfMemoryAdvice(ran.empty() ? app : *ran[0]) << "\n";
+        line = "octrace: error: " + outOfMemoryAdvice(ran.empty() ? app : *ran[0]);
         return kExitError;
     } catch (const std::exception& e) {
-        std::cerr << "octrace: error: " << e.what() << "\n";
+        line = std::string("octrace: error: ") + e.what();
         return kExitError;
     }
     if (standardOutputFailed()) {
         const int err = errno;
-        std::cerr << "octrace: error: cannot write standard output: "
-                  << std::strerror(err ? err : EIO) << " (the results printed there are lost)\n";
+        line = std::string("octrace: error: cannot write standard output: ") +
+               std::strerror(err ? err : EIO) + " (the results printed there are lost)";
         return kExitError;
     }
+    ending = Ending::Done;
     return kExitSuccess;
+}
+
+}  // namespace
+
+int runCli(int argc, char** argv) {
+    std::optional<RanksSession> session;
+    try {
+        session.emplace(argc, argv);  // MPI_Init under a launcher (dist/ranks.h)
+    } catch (const std::exception& e) {
+        std::cerr << "octrace: error: " << e.what() << "\n";
+        return kExitError;
+    }
+    Ranks& ranks = Ranks::world();
+    std::string line;
+    Ending ending = Ending::Done;
+    int status = runCommand(argc, argv, line, ending);
+    // A rank's own error meets the other ranks' next collective call (Ranks::fail); a run that
+    // ended on every rank agrees once more before it exits, so that no rank leaves while
+    // another still fails (rank 0's writes come last).
+    if (ending == Ending::Failed) return ranks.fail(line, status);
+    if (ending == Ending::Done && ranks.distributed()) {
+        try {
+            ranks.checkpoint();
+        } catch (const RankFailed& e) {
+            line = e.line();
+            status = e.status();
+        }
+    }
+    if (!line.empty() && ranks.root()) std::cerr << line << "\n";
+    return status;
 }
 
 }  // namespace oct

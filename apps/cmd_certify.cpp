@@ -1,5 +1,8 @@
 // octrace certify: any tracer's answers for a ray file, judged per ray by the policy of
 // docs/VALIDATION.md (validation/certify.h, docs/CERTIFY.md); exit status as runCli's.
+// Across MPI ranks every rank reads the rows and the hits, judges its own share of the rows
+// (validation/certify.h, RowShare) and merges the arrays; rank 0 writes the same report, verdict
+// files and diff image as one process.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +13,7 @@
 #include "core/io/output_file.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "dist/ranks.h"
 #include "validation/certify_baseline.h"
 #include "validation/certify_run.h"
 #include "validation/rays/hit_files.h"
@@ -80,9 +84,14 @@ void runCertify(const CertifyCliOptions& o) {
                                      verdictLeakPath(o.baseline)})
             inputs.push_back(p);
     checkOutputPaths(outputs, inputs);
-    for (const std::string& p : outputs)
-        if (!p.empty() && p != "-") checkWritable(p);
-    const std::vector<OutputLock> locks = lockOutputs(outputs);  // until the outputs are in place
+    Ranks& ranks = Ranks::world();
+    std::vector<OutputLock> locks;  // until the outputs are in place; rank 0 writes them
+    if (ranks.root()) {
+        for (const std::string& p : outputs)
+            if (!p.empty() && p != "-") checkWritable(p);
+        locks = lockOutputs(outputs);
+    }
+    ranks.checkpoint();  // an output rank 0 refuses stops every rank before the work
     setCpuThreadsFromOption(o.threads);
 
     // Where the time goes, on every run (the phases line): the certify run is benchmarked
@@ -141,6 +150,13 @@ void runCertify(const CertifyCliOptions& o) {
             "--diff-image needs a camera set: make the rays with octrace "
             "rays --set camera,... and keep " +
             manifestPath + " beside them");
+    RowShare share;  // this rank's rows, merged with the others' (collective)
+    if (ranks.distributed()) {
+        const RowRange mine = ranks.rowsOf(n);
+        share = {mine.begin, mine.end,
+                 [&ranks](void* data, uint64_t bytes) { ranks.combineOwned(data, bytes); }};
+        ro.query.share = &share;
+    }
     CertifyRun run = certifyRows(scene, std::move(rows), hits, manifest, ro);
     lap();
     CertifyReport& rep = run.report;
@@ -149,6 +165,15 @@ void runCertify(const CertifyCliOptions& o) {
 
     std::optional<BaselineComparison> change;
     if (baseline) change = compareWithBaseline(rep.result, *baseline, o.baseline);
+    const Outcome outcome = rep.outcome();
+    // Every rank holds the same report; rank 0 prints and writes it, then all end alike.
+    ranks.checkpoint();
+    if (!ranks.root()) {
+        if (outcome != Outcome::Pass)
+            throw CommandVerdict(outcome == Outcome::Incomplete ? kExitIncomplete : kExitFail,
+                                 verdictLine(rep));
+        return;
+    }
     std::FILE* human = summaryStream(o.json);
     std::fputs(humanSummary(rep).c_str(), human);
     if (change) std::fputs(humanSummary(*change).c_str(), human);
@@ -173,8 +198,10 @@ void runCertify(const CertifyCliOptions& o) {
                  "reference %.3f s, check %.3f s, report %.3f s\n",
                  readSeconds, loadSeconds, run.truthSeconds, run.setsSeconds, rep.referenceSeconds,
                  rep.checkSeconds, lap());
+    if (ranks.distributed())
+        std::fprintf(human, "ranks    %d, ray rows split by rank (the phases are rank 0's)\n",
+                     ranks.size());
     std::fflush(stdout);
-    const Outcome outcome = rep.outcome();
     if (outcome != Outcome::Pass)
         throw CommandVerdict(outcome == Outcome::Incomplete ? kExitIncomplete : kExitFail,
                              verdictLine(rep));

@@ -1,6 +1,7 @@
 // octrace render: one frame of the paper's ray tracer (primary ray, Phong, shadow ray) with a
 // chosen layout and backend; PNG plus optional per-pixel .npy arrays, a cost heat map and an
-// octree overlay (teach/).
+// octree overlay (teach/). Across MPI ranks each renders a band of image rows and rank 0 gathers
+// the Film and writes the same files, byte for byte, as one process (dist/split_work.h).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -9,6 +10,8 @@
 #include "core/io/npy.h"
 #include "core/scene/load_scene.h"
 #include "core/system/resources.h"
+#include "dist/ranks.h"
+#include "dist/split_work.h"
 #include "teach/heatmap.h"
 #include "teach/overlay.h"
 #include "validation/policy/film_compare.h"
@@ -101,7 +104,9 @@ void checkTeachOptions(const RenderOptions& o, const BackendDesc& backend) {
 // of docs/VALIDATION.md; `octrace validate` classifies the mismatches further).
 void printEmbreeAgreement(const FrameParams& frame, const Scene& scene, const Film& film) {
     Film truth;
-    renderWith(referenceBackend(), bareScene(scene), frame, truth);
+    const BuiltScene bare = bareScene(scene);
+    renderWithByRows(referenceBackend(), bare, frame, truth);  // collective
+    if (!Ranks::world().root()) return;
     FilmComparison c = compareFilms(film, truth, sceneExtent(scene));
     std::printf(
         "embree  %llu of %llu pixels agree (%llu both miss, %llu same primitive, %llu ties); "
@@ -132,7 +137,10 @@ void runRender(const RenderOptions& o) {
     std::string note;
     const BackendDesc& backend = parseOneBackend(o.trace.backend, "render", note);
     checkTeachOptions(o, backend);
-    const std::vector<OutputLock> locks = checkOutputs(o);
+    Ranks& ranks = Ranks::world();
+    std::vector<OutputLock> locks;  // rank 0 writes the outputs
+    if (ranks.root()) locks = checkOutputs(o);
+    ranks.checkpoint();  // an output rank 0 refuses stops every rank before the work
     setCpuThreadsFromOption(o.trace.threads);
     checkMemory(renderPeakBytes(o, uint64_t(cam.width) * uint64_t(cam.height)),
                 "octrace render --size " + o.camera.size, "use a smaller --size");
@@ -146,8 +154,13 @@ void runRender(const RenderOptions& o) {
         backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
     FrameParams frame = makeFrame(scene.bounds(), cam);
     Film film;
-    FrameRun t = renderWith(backend, bs, frame, film);
-    writeOutputs(o, film, teachImages(o, scene, bs, frame, film));
+    FrameRun t = renderWithByRows(backend, bs, frame, film);  // rank 0 holds the whole Film
+    if (ranks.root()) writeOutputs(o, film, teachImages(o, scene, bs, frame, film));
+    ranks.checkpoint();  // rank 0's writes done (or failed) before --compare-embree's frame
+    if (!ranks.root()) {
+        if (o.compareEmbree) printEmbreeAgreement(frame, scene, film);
+        return;
+    }
 
     std::printf("%s: %u primitives, %s on %s, %dx%d\n", scene.name.c_str(), scene.primitiveCount(),
                 tracedStructure(backend, layout), backend.name, frame.width, frame.height);
@@ -155,6 +168,9 @@ void runRender(const RenderOptions& o) {
     const double seconds = t.frameSeconds.empty() ? 0.0 : t.frameSeconds[0];
     std::printf("build   %.3f s\n", t.buildSeconds);
     std::printf("frame   %.3f s\n", seconds);
+    if (ranks.distributed())
+        std::printf("ranks   %d, image rows split by rank (times are the slowest rank's)\n",
+                    ranks.size());
     double s = seconds > 0 ? seconds : 1e-9;
     std::printf("rays    %llu primary + %llu shadow = %.3f Mrays/s\n",
                 (unsigned long long)t.primaryRays, (unsigned long long)t.shadowRays,

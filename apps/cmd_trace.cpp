@@ -4,14 +4,18 @@
 //        PREFIX.run.json, the record that the two are one run's pair (validation/rays/hit_files.h).
 // While it runs it holds PREFIX.lock (core/io/output_file.h, OutputLock): a second run into the
 // same prefix is refused instead of mixing its pair with this one's.
+// Across MPI ranks (dist/ranks.h) each rank reads and traces its own rows of the file and rank 0
+// gathers the hits and writes the same three files, byte for byte, as one process.
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "apps/cli.h"
 #include "core/io/npy.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "dist/ranks.h"
 #include "validation/rays/hit_files.h"
 
 namespace oct {
@@ -30,8 +34,13 @@ void runTrace(const TraceOptions& o) {
     const std::string tOut = hitTPath(o.out), primOut = hitPrimPath(o.out);
     const std::string runOut = hitRunPath(o.out);
     checkOutputPaths({tOut, primOut, runOut}, {o.scene.path, o.rays});
-    checkWritable(tOut);
-    const OutputLock lock(o.out);  // until the three files are in place
+    Ranks& ranks = Ranks::world();
+    std::optional<OutputLock> lock;  // until the three files are in place; rank 0 writes them
+    if (ranks.root()) {
+        checkWritable(tOut);
+        lock.emplace(o.out);
+    }
+    ranks.checkpoint();  // an output rank 0 refuses stops every rank before the work
     setCpuThreadsFromOption(o.trace.threads);
     // Every buffer below is filled before it is read, so none is zeroed: the rays straight from
     // the file, the hits straight into the output files' data sections.
@@ -41,12 +50,19 @@ void runTrace(const TraceOptions& o) {
     };
     Clock::time_point t0 = Clock::now();
     std::unique_ptr<float[]> rays;
-    const uint64_t n = readRayFileInto(o.rays, [&](uint64_t rows) {
-        // The rows, then a t and a prim per row in the output files.
-        checkRayFileMemory("trace", o.rays, rows, 8 * sizeof(float) + sizeof(float) + 4);
-        rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
-        return rays.get();
-    });
+    RowRange mine;
+    const uint64_t n = readRayFileRowsInto(
+        o.rays,
+        [&](uint64_t rows) {
+            mine = ranks.rowsOf(rows);
+            return RowSpan{mine.begin, mine.end};
+        },
+        [&](uint64_t rows) {
+            // The rows, then a t and a prim per row in the output files (rank 0: every row's).
+            checkRayFileMemory("trace", o.rays, rows, 8 * sizeof(float) + sizeof(float) + 4);
+            rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
+            return rays.get();
+        });
 
     const double readSeconds = since(t0);
     t0 = Clock::now();
@@ -54,14 +70,37 @@ void runTrace(const TraceOptions& o) {
     const double loadSeconds = since(t0);
     BuiltScene bs =
         backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
-    NpyBuffer tFile("<f4", {n}, 4), primFile("<i4", {n}, 4);
-    float* t = static_cast<float*>(tFile.data());
-    int32_t* prim = static_cast<int32_t*>(primFile.data());
-    double seconds = traceWith(backend, bs, {rays.get(), t, prim, n});
+    // Rank 0's rows are the first: it traces straight into the output files' data sections, the
+    // other ranks into their own arrays, which rank 0 then gathers into the rest.
+    std::optional<NpyBuffer> tFile, primFile;
+    std::vector<float> tMine;
+    std::vector<int32_t> primMine;
+    float* t = nullptr;
+    int32_t* prim = nullptr;
+    if (ranks.root()) {
+        tFile.emplace("<f4", std::vector<uint64_t>{n}, 4);
+        primFile.emplace("<i4", std::vector<uint64_t>{n}, 4);
+        t = static_cast<float*>(tFile->data());
+        prim = static_cast<int32_t*>(primFile->data());
+    } else {
+        tMine.resize(mine.count());
+        primMine.resize(mine.count());
+        t = tMine.data();
+        prim = primMine.data();
+    }
+    double seconds = traceWith(backend, bs, {rays.get(), t, prim, mine.count()});
+    t0 = Clock::now();
+    ranks.gatherRows(t, t, n, sizeof(float));
+    ranks.gatherRows(prim, prim, n, sizeof(int32_t));
+    const double gatherSeconds = since(t0);
+    seconds = ranks.maxOver(seconds);  // the slowest rank's
+    const double outside[] = {ranks.maxOver(readSeconds), ranks.maxOver(loadSeconds),
+                              ranks.maxOver(bs.treeSeconds), ranks.maxOver(bs.convertSeconds)};
+    if (!ranks.root()) return;
     t0 = Clock::now();
     OutputSet out;  // the three files or none
-    out.stage(tOut, tFile.bytes(), tFile.size());
-    out.stage(primOut, primFile.bytes(), primFile.size());
+    out.stage(tOut, tFile->bytes(), tFile->size());
+    out.stage(primOut, primFile->bytes(), primFile->size());
     const std::string record = hitRunRecord(o.out, t, prim, n, out);
     out.stage(runOut, record.data(), record.size());
     out.commit();
@@ -77,7 +116,12 @@ void runTrace(const TraceOptions& o) {
     std::printf(
         "phases  read rays %.3f s, load scene %.3f s, octree %.3f s, layout %.3f s, trace %.3f "
         "s, write %.3f s\n",
-        readSeconds, loadSeconds, bs.treeSeconds, bs.convertSeconds, seconds, writeSeconds);
+        outside[0], outside[1], outside[2], outside[3], seconds, writeSeconds);
+    if (ranks.distributed())
+        std::printf(
+            "ranks   %d, rows split by rank (the phases above are the slowest rank's), "
+            "gather %.3f s\n",
+            ranks.size(), gatherSeconds);
     std::printf("wrote   %s %s %s\n", tOut.c_str(), primOut.c_str(), runOut.c_str());
 }
 

@@ -17,6 +17,8 @@
 #include "core/scene/load_scene.h"
 #include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
+#include "dist/ranks.h"
+#include "dist/split_work.h"
 #include "validation/regression/artifacts.h"
 #include "validation/regression/regression_run.h"
 #include "validation/report/report.h"
@@ -168,7 +170,30 @@ RegressionMode regressionMode(const ValidateCliOptions& o) {
     return o.update ? RegressionMode::Update : RegressionMode::Check;
 }
 
+// Across MPI ranks: every film by image rows, every ray batch and the per-ray rechecks by ray
+// rows (dist/split_work.h); each rank then holds the same films and answers and computes the
+// same report, which rank 0 prints and writes.
+WorkShare rankShare() {
+    WorkShare s;
+    s.render = [](const FrameParams& p, Film& f, const WorkShare::RenderCall& call) {
+        renderByRows(p, call, f, true);
+    };
+    s.trace = [](RayBatchView b, const WorkShare::TraceCall& call) { traceByRows(b, call, true); };
+    s.rows = [](uint64_t n) {
+        Ranks& ranks = Ranks::world();
+        const RowRange mine = ranks.rowsOf(n);
+        return RowShare{mine.begin, mine.end,
+                        [&ranks](void* data, uint64_t bytes) { ranks.combineOwned(data, bytes); }};
+    };
+    return s;
+}
+
 void runValidate(const ValidateCliOptions& o) {
+    Ranks& ranks = Ranks::world();
+    if (ranks.distributed() && (o.table1 || !o.regression.empty() || o.scene.path.empty()))
+        throw std::runtime_error(
+            "across MPI ranks validate checks a SCENE; run --table1 and the regression set "
+            "(--regression) in one process");
     if (o.table1) return runTable1(o);
     // Option errors first (cheap), then the regression set (seconds), then the scene.
     checkRayCount(o.rays);
@@ -220,6 +245,7 @@ void runValidate(const ValidateCliOptions& o) {
         return;
     }
     ValidateOptions vo;
+    if (ranks.distributed()) vo.share = rankShare();
     parseImageSize(o.size, vo.camera.width, vo.camera.height);
     vo.rays = o.rays;
     vo.seed = o.seed;
@@ -256,13 +282,27 @@ void runValidate(const ValidateCliOptions& o) {
         for (const BackendDesc* b : backendList) {
             std::shared_ptr<SceneTracer> t = b->prepare(*built.back());
             prepared.push_back(t);
-            tracers.push_back({l->name, b->name,
-                               [t](const FrameParams& p, Film& film) { t->render(p, film); },
-                               [t](RayBatchView batch) { t->trace(batch); }, lookup});
+            WorkShare::RenderCall render = [t](const FrameParams& p, Film& film) {
+                t->render(p, film);
+            };
+            WorkShare::TraceCall trace = [t](RayBatchView batch) { t->trace(batch); };
+            if (ranks.distributed()) {  // the tracer's frames and batches split by rows
+                render = [s = vo.share, render](const FrameParams& p, Film& f) {
+                    s.render(p, f, render);
+                };
+                trace = [s = vo.share, trace](RayBatchView b) { s.trace(b, trace); };
+            }
+            tracers.push_back({l->name, b->name, render, trace, lookup});
         }
     }
 
     ValidationReport rep = validateScene(scene, tracers, canonical.get(), vo);
+    ranks.checkpoint();
+    if (!ranks.root()) {  // the same report as rank 0's, which prints and writes it
+        if (!rep.passes()) throw CommandVerdict(kExitFail, "validation FAILED");
+        if (!rep.complete()) throw CommandVerdict(kExitIncomplete, "validation INCOMPLETE");
+        return;
+    }
     std::FILE* human = summaryStream(o.json);
     std::fputs(humanSummary(rep).c_str(), human);
     std::fflush(human);
@@ -275,6 +315,11 @@ void runValidate(const ValidateCliOptions& o) {
             writeDiffPicture(path, run.film, rep.policy.tTolerance);
             std::fprintf(human, "wrote    %s\n", path.c_str());
         }
+    if (ranks.distributed())
+        std::fprintf(human,
+                     "ranks    %d, films by image rows and rays by ray rows (each rank then "
+                     "judges the whole)\n",
+                     ranks.size());
     std::fflush(stdout);
     if (!rep.passes() || !reg.passes())
         throw CommandVerdict(kExitFail, "validation FAILED: " + failureText(rep) +

@@ -113,6 +113,9 @@ struct RunOptions {
     // at a name octrace would derive from its pid). A failing command ends the run
     // before octrace starts (sh -e: its exit status, not 0).
     std::string shellBefore;
+    // Not empty: the words that start the command before octrace (or the shell above), e.g.
+    // {"/usr/bin/mpirun", "-np", "3"}: the first is the program run, by its path.
+    std::vector<std::string> launcher;
 };
 
 // Runs octrace with `args`; stdout and stderr go to files in `captureDir` (created if needed).
@@ -128,6 +131,7 @@ inline RunResult runOctrace(const std::vector<std::string>& args, const fs::path
         argv = {"/bin/sh", "-c", "set -e\n" + opt.shellBefore + "\nexec \"$0\" \"$@\"",
                 octraceBinary()};
     argv.insert(argv.end(), args.begin(), args.end());
+    argv.insert(argv.begin(), opt.launcher.begin(), opt.launcher.end());
     std::vector<char*> cargv;
     for (std::string& a : argv) cargv.push_back(a.data());
     cargv.push_back(nullptr);

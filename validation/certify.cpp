@@ -9,6 +9,7 @@
 #include <cstring>
 #include <functional>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_map>
 
 #include "cpu_ref/embree_tracer.h"
@@ -180,17 +181,31 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                                         std::to_string(s.begin) + "+" + std::to_string(s.count) +
                                         " outside the " + std::to_string(n) + " rays");
     const ValidationPolicy& pol = c.policy();
+    // This process's rows (RowShare), and the merge of an array filled for them only.
+    const RowShare* share = options.share;
+    const uint64_t lo = share ? share->begin : 0, hi = share ? share->end : n;
+    if (lo > hi || hi > n)
+        throw std::invalid_argument("certifyRays: shared rows " + std::to_string(lo) + ".." +
+                                    std::to_string(hi) + " outside the " + std::to_string(n) +
+                                    " rays");
+    auto mine = [lo, hi](uint64_t row) { return row >= lo && row < hi; };
+    auto combine = [share](auto& v) {
+        using T = typename std::decay_t<decltype(v)>::value_type;
+        static_assert(std::is_trivially_copyable_v<T>);
+        if (share) share->combine(v.data(), uint64_t(v.size()) * sizeof(T));
+    };
     // Each row's query kind, from its set (rows outside every set are closest-hit queries).
     std::vector<uint8_t> anyHit(n, 0);
     for (const RaySetRange& s : rays.sets)
         if (queryOf(s, options) == QueryKind::AnyHit)
             std::fill(anyHit.begin() + s.begin, anyHit.begin() + s.begin + s.count, 1);
 
-    // Pass 1, cheap and parallel: the policy's first step for every ray.
-    std::vector<uint8_t> cls(n);
+    // Pass 1, cheap and parallel: the policy's first step for every ray (of this process).
+    std::vector<uint8_t> cls(n, 0);
     std::vector<uint32_t> why(n, 0);
-    std::vector<float> rel(n);
-    parallelFor(n, [&](size_t i) {
+    std::vector<float> rel(n, 0.0f);
+    parallelFor(hi - lo, [&](size_t j) {
+        const uint64_t i = lo + j;
         const Ray ray = rays.ray(i);
         const Hit r = ref.at(i);
         const Hit o = judged(c, ours, i, ray, r);
@@ -201,6 +216,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         else
             cls[i] = uint8_t(anyHit[i] ? c.compareAnyHit(ray, o, r) : c.compare(ray, o, r));
     });
+    combine(cls);
+    combine(rel);
 
     // Pass 2: rechecks in double of every mismatch (each set up to the user's cap, if any).
     std::vector<uint64_t> recheck;
@@ -221,10 +238,14 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             }
         }
     }
+    // Zero bytes where another process rechecks (combine).
     std::vector<Verdict> verdict(recheck.size());
-    std::vector<int32_t> inferred(recheck.size(), -1);
+    static_assert(std::is_trivially_copyable_v<Verdict>);
+    if (!verdict.empty()) std::memset(verdict.data(), 0, verdict.size() * sizeof(Verdict));
+    std::vector<int32_t> inferred(recheck.size(), 0);
     parallelFor(recheck.size(), [&](size_t k) {
         const uint64_t i = recheck[k];
+        if (!mine(i)) return;
         const Ray ray = rays.ray(i);
         Hit o = judged(c, ours, i, ray, ref.at(i));
         if (o.prim == kUnknownPrim) {  // --no-prim: the primitive the reported point is on
@@ -241,6 +262,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         verdict[k] =
             anyHit[i] ? c.recheckAnyHit(ray, o, r, &more) : c.recheckClosest(ray, o, r, &more);
     });
+    combine(verdict);
+    combine(inferred);
     std::unordered_map<uint64_t, size_t> slot;
     for (size_t k = 0; k < recheck.size(); ++k) {
         cls[recheck[k]] = uint8_t(verdict[k].cls);
@@ -260,13 +283,14 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
         std::vector<size_t> candidates;
         std::unordered_map<std::string, uint64_t> perSet;
         std::vector<uint8_t> isCandidate(rays.targets.size(), 0);
+        std::vector<Hit> got(rays.targets.size(), Hit{0.0f, 0});  // zero bytes: combine
         parallelFor(rays.targets.size(), [&](size_t k) {
             const RayTarget& tg = rays.targets[k];
-            if (tg.row >= n || !tg.sealed) return;
+            if (tg.row >= n || !tg.sealed || !mine(tg.row)) return;
             const Ray ray = rays.ray(tg.row);
             const float t = ours.t[tg.row];
             Hit o = ours.primIds ? Hit{t, ours.prim[tg.row]} : Hit{t, t == INFINITY ? -1 : 0};
-            leaks[k].got = o;
+            got[k] = o;
             // Watertightness asks whether the ray stopped on the surface, not which primitive
             // it names (the per-ray check judges that): a point on the surface but off its
             // reported primitive stopped there.
@@ -280,9 +304,12 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                 double(t) <= tg.t + std::max(tTolerance(c, ray), c.hitTError(ray, o.prim));
             isCandidate[k] = !sealedHere;
         });
+        combine(isCandidate);
+        combine(got);
         for (size_t k = 0; k < rays.targets.size(); ++k) {
             const RayTarget& tg = rays.targets[k];
             if (tg.row >= n) throw std::invalid_argument("certifyRays: target row beyond the rays");
+            if (tg.sealed) leaks[k].got = got[k];
             if (!tg.sealed) {
                 leak[tg.row] = uint8_t(LeakState::Unsealed);
                 continue;
@@ -308,19 +335,29 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
                 leak[tg.row] = uint8_t(LeakState::Unverified);
             }
         }
+        // Each candidate's truth and state, by the process owning its row (zero bytes elsewhere).
+        std::vector<Hit> truth(candidates.size(), Hit{0.0f, 0});
+        std::vector<uint8_t> state(candidates.size(), 0);
         parallelFor(candidates.size(), [&](size_t m) {
-            const size_t k = candidates[m];
-            LeakFinding& f = leaks[k];
-            f.truth = c.truth().closest(toDoubleRay(f.ray));
+            const LeakFinding& f = leaks[candidates[m]];
+            if (!mine(f.index)) return;
+            truth[m] = c.truth().closest(toDoubleRay(f.ray));
             // The truth meets the target: one of its own triangles when the generator names
             // them (edges, vertices), else anything at or before it (the slivers square).
             const std::vector<uint32_t>& own = f.target.triangles;
             const bool onTarget =
-                own.empty() || std::binary_search(own.begin(), own.end(), uint32_t(f.truth.prim));
-            const bool sealed = f.truth.prim >= 0 && onTarget &&
-                                double(f.truth.t) <= f.target.t + tTolerance(c, f.ray);
-            leak[f.index] = uint8_t(sealed ? LeakState::Leak : LeakState::Unsealed);
+                own.empty() || std::binary_search(own.begin(), own.end(), uint32_t(truth[m].prim));
+            const bool sealed = truth[m].prim >= 0 && onTarget &&
+                                double(truth[m].t) <= f.target.t + tTolerance(c, f.ray);
+            state[m] = uint8_t(sealed ? LeakState::Leak : LeakState::Unsealed);
         });
+        combine(truth);
+        combine(state);
+        for (size_t m = 0; m < candidates.size(); ++m) {
+            LeakFinding& f = leaks[candidates[m]];
+            f.truth = truth[m];
+            leak[f.index] = state[m];
+        }
     }
 
     // Pass 4: counts and findings per set.
@@ -503,11 +540,19 @@ CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
 
     auto t0 = std::chrono::steady_clock::now();
     HitArrays ref;
-    ref.t.resize(rays.count());
+    ref.t.resize(rays.count());  // zeros: a RowShare merges the rows of every process
     ref.prim.resize(rays.count());
+    const uint64_t lo = options.share ? options.share->begin : 0;
+    const uint64_t hi = options.share ? options.share->end : rays.count();
+    if (lo > hi || hi > rays.count())
+        throw std::invalid_argument("certifyTracer: shared rows outside the rays");
     EmbreeTracer embree(scene);  // robust mode: the reference of docs/VALIDATION.md
-    traceRaysCpu(embree.accel(),
-                 RayBatchView{rays.rays.data(), ref.t.data(), ref.prim.data(), rays.count()});
+    traceRaysCpu(embree.accel(), RayBatchView{rays.rays.data() + 8 * lo, ref.t.data() + lo,
+                                              ref.prim.data() + lo, hi - lo});
+    if (options.share) {
+        options.share->combine(ref.t.data(), ref.t.size() * sizeof(float));
+        options.share->combine(ref.prim.data(), ref.prim.size() * sizeof(int32_t));
+    }
     rep.referenceSeconds = since(t0);
     t0 = std::chrono::steady_clock::now();
     // The reference's next hit beyond its first, for the rechecks that need a witness (a miss

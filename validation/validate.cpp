@@ -98,12 +98,20 @@ ValidationReport validateScene(const Scene& scene, const std::vector<TracerUnder
     auto refStart = std::chrono::steady_clock::now();
     const BuiltScene bare = bareScene(scene);
     EmbreeSceneTracer embree(bare);
-    embree.render(in.frame, in.reference);
-    if (o.lightInside) embree.render(in.frameInside, in.referenceInside);
+    const WorkShare::RenderCall embreeRender = [&embree](const FrameParams& p, Film& f) {
+        embree.render(p, f);
+    };
+    const WorkShare::TraceCall embreeTrace = [&embree](RayBatchView b) { embree.trace(b); };
+    auto render = [&o, &embreeRender](const FrameParams& p, Film& f) {
+        o.share.render ? o.share.render(p, f, embreeRender) : embreeRender(p, f);
+    };
+    render(in.frame, in.reference);
+    if (o.lightInside) render(in.frameInside, in.referenceInside);
     in.referenceHits.t.resize(rayCount);
     in.referenceHits.prim.resize(rayCount);
-    embree.trace(
-        {in.rays.rays.data(), in.referenceHits.t.data(), in.referenceHits.prim.data(), rayCount});
+    const RayBatchView refBatch{in.rays.rays.data(), in.referenceHits.t.data(),
+                                in.referenceHits.prim.data(), rayCount};
+    o.share.trace ? o.share.trace(refBatch, embreeTrace) : embreeTrace(refBatch);
     rep.referenceSeconds = since(refStart);
     in.referenceOccluded = [&embree](const Ray& r) {
         TraceCost cost = {0, 0};

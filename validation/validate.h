@@ -36,6 +36,20 @@ struct TracerUnderTest {
     NodeLookupFn lookup;
 };
 
+// Work shared among processes (MPI ranks: `octrace validate` under mpirun fills it from dist/).
+// Every process calls validateScene alike and computes the same report: `render` runs a render
+// call by image rows and leaves the whole Film on every process, `trace` a trace call by ray
+// rows leaving every answer on every process, and `rows(n)` names the rows of n seeded rays whose
+// per-ray check (the rechecks) this process does (certify.h, RowShare). An empty member: this
+// process does that work alone. The tracers under test come shared already (the caller's).
+struct WorkShare {
+    using RenderCall = std::function<void(const FrameParams&, Film&)>;
+    using TraceCall = std::function<void(RayBatchView)>;
+    std::function<void(const FrameParams&, Film&, const RenderCall&)> render;
+    std::function<void(RayBatchView, const TraceCall&)> trace;
+    std::function<RowShare(uint64_t rows)> rows;
+};
+
 struct ValidateOptions {
     ValidationPolicy policy;
     CameraOptions camera = defaultValidateCamera();
@@ -49,6 +63,7 @@ struct ValidateOptions {
     // behind the eye beyond their end (the default light lies outside the scene, so an any-hit
     // query ignoring tmax passes unnoticed there).
     bool lightInside = true;
+    WorkShare share;  // empty: this process does all the work
 
     static CameraOptions defaultValidateCamera() {
         CameraOptions c;

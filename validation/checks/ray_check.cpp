@@ -15,7 +15,13 @@ public:
     const char* name() const override { return "rays"; }
 
     void run(const CheckInputs& in, const TracerAnswers& ours, RunReport& out) const override {
-        out.rays = certifyRays(in.classifier, in.rays, ours.hits, in.referenceHits);
+        CertifyOptions options;
+        RowShare share;  // the rows whose rechecks this process does (ValidateOptions::share)
+        if (in.options.share.rows) {
+            share = in.options.share.rows(in.rays.count());
+            options.share = &share;
+        }
+        out.rays = certifyRays(in.classifier, in.rays, ours.hits, in.referenceHits, options);
     }
 
     CheckResult result(const RunReport& run, double maxAmbiguousRate) const override {

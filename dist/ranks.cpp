@@ -1,0 +1,209 @@
+#include "dist/ranks.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "core/system/launcher.h"
+
+#if defined(OCT_HAVE_MPI)
+#include <mpi.h>
+#endif
+
+namespace oct {
+
+RowRange rowsOfRank(uint64_t n, int rank, int ranks) {
+    if (ranks < 1 || rank < 0 || rank >= ranks)
+        throw std::invalid_argument("rowsOfRank: rank " + std::to_string(rank) + " of " +
+                                    std::to_string(ranks));
+    const uint64_t k = uint64_t(ranks), r = uint64_t(rank);
+    const uint64_t base = n / k, extra = n % k;
+    const uint64_t begin = r * base + std::min(r, extra);
+    return {begin, begin + base + (r < extra ? 1 : 0)};
+}
+
+Ranks& Ranks::world() {
+    static Ranks w;
+    return w;
+}
+
+bool builtWithMpi() {
+#if defined(OCT_HAVE_MPI)
+    return true;
+#else
+    return false;
+#endif
+}
+
+#if defined(OCT_HAVE_MPI)
+
+namespace {
+
+// MPI counts are ints: data moves in pieces of at most 1 GiB.
+constexpr uint64_t kPieceBytes = uint64_t(1) << 30;
+
+// "octrace: error: ..." -> "octrace: rank 2 of 3: error: ...".
+std::string namedLine(const std::string& line, int rank, int size) {
+    const std::string head = "octrace: ";
+    const std::string who = "rank " + std::to_string(rank) + " of " + std::to_string(size) + ": ";
+    if (line.compare(0, head.size(), head) == 0) return head + who + line.substr(head.size());
+    return head + who + line;
+}
+
+}  // namespace
+
+int Ranks::agree(bool failed, std::string& line, int& status) {
+    if (size_ == 1) return failed ? 0 : 1;
+    int lowest = failed ? rank_ : size_;
+    MPI_Allreduce(MPI_IN_PLACE, &lowest, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
+    if (lowest == size_) return lowest;
+    // The lowest failed rank's line and status, to every rank.
+    int head[2] = {status, int(line.size())};
+    MPI_Bcast(head, 2, MPI_INT, lowest, MPI_COMM_WORLD);
+    std::vector<char> text(size_t(head[1]) + 1, '\0');
+    if (rank_ == lowest) std::memcpy(text.data(), line.data(), line.size());
+    MPI_Bcast(text.data(), head[1], MPI_CHAR, lowest, MPI_COMM_WORLD);
+    status = head[0];
+    line = namedLine(std::string(text.data(), size_t(head[1])), lowest, size_);
+    return lowest;
+}
+
+void Ranks::checkpoint() {
+    if (size_ == 1) return;
+    std::string line;
+    int status = 0;
+    if (agree(false, line, status) != size_) throw RankFailed(root() ? line : "", status);
+}
+
+void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
+    checkpoint();
+    if (root() && mine != all) std::memmove(all, mine, rowsOf(n).count() * elemBytes);
+    if (size_ == 1) return;
+    // Rank 0 receives each rank's rows in turn, in pieces (MPI counts are ints).
+    auto pieces = [&](int peer, char* at, uint64_t bytes, bool receive) {
+        for (uint64_t left = bytes; left > 0;) {
+            const int m = int(std::min(left, kPieceBytes));
+            if (receive)
+                MPI_Recv(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+            else
+                MPI_Send(at, m, MPI_BYTE, 0, 0, MPI_COMM_WORLD);
+            at += m;
+            left -= uint64_t(m);
+        }
+    };
+    if (root()) {
+        for (int r = 1; r < size_; ++r) {
+            const RowRange rows = rowsOfRank(n, r, size_);
+            pieces(r, static_cast<char*>(all) + rows.begin * elemBytes, rows.count() * elemBytes,
+                   true);
+        }
+    } else {
+        pieces(0, const_cast<char*>(static_cast<const char*>(mine)), rowsOf(n).count() * elemBytes,
+               false);
+    }
+}
+
+void Ranks::allgatherRows(void* data, uint64_t n, size_t elemBytes) {
+    char* at = static_cast<char*>(data);
+    gatherRows(at + rowsOf(n).begin * elemBytes, data, n, elemBytes);
+    if (size_ == 1) return;
+    for (uint64_t left = n * elemBytes; left > 0;) {
+        const int m = int(std::min(left, kPieceBytes));
+        MPI_Bcast(at, m, MPI_BYTE, 0, MPI_COMM_WORLD);
+        at += m;
+        left -= uint64_t(m);
+    }
+}
+
+void Ranks::combineOwned(void* data, uint64_t bytes) {
+    checkpoint();
+    if (size_ == 1) return;
+    char* at = static_cast<char*>(data);
+    for (uint64_t left = bytes; left > 0;) {
+        const int m = int(std::min(left, kPieceBytes));
+        MPI_Allreduce(MPI_IN_PLACE, at, m, MPI_BYTE, MPI_BOR, MPI_COMM_WORLD);
+        at += m;
+        left -= uint64_t(m);
+    }
+}
+
+double Ranks::maxOver(double v) {
+    checkpoint();
+    if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    return v;
+}
+
+uint64_t Ranks::sumOver(uint64_t v) {
+    checkpoint();
+    if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    return v;
+}
+
+RanksSession::RanksSession(int& argc, char**& argv) {
+    const LauncherPlacement p = launcherPlacement();
+    if (!p.launched) return;
+    int provided = 0;
+    // One thread calls MPI (the main one); OpenMP's threads never do.
+    if (MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
+        throw std::runtime_error("MPI_Init failed (the launcher placed this process as rank " +
+                                 std::to_string(p.rank) + " of " + std::to_string(p.size) + ")");
+    started_ = true;
+    Ranks& w = Ranks::world();
+    MPI_Comm_rank(MPI_COMM_WORLD, &w.rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &w.size_);
+    w.localRank_ = p.localRank;
+    const char* keep = std::getenv("OCT_RANKS_OUTPUT");
+    if (w.rank_ != 0 && !(keep && std::strcmp(keep, "all") == 0)) {
+        std::fflush(stdout);
+        std::fflush(stderr);
+        if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
+            throw std::runtime_error("rank " + std::to_string(w.rank_) +
+                                     ": cannot quiet its output (/dev/null)");
+    }
+}
+
+RanksSession::~RanksSession() {
+    if (started_) MPI_Finalize();
+}
+
+#else  // no MPI: one rank
+
+int Ranks::agree(bool failed, std::string&, int&) { return failed ? 0 : 1; }
+void Ranks::checkpoint() {}
+void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
+    if (mine != all) std::memmove(all, mine, n * elemBytes);
+}
+void Ranks::allgatherRows(void*, uint64_t, size_t) {}
+void Ranks::combineOwned(void*, uint64_t) {}
+double Ranks::maxOver(double v) { return v; }
+uint64_t Ranks::sumOver(uint64_t v) { return v; }
+
+RanksSession::RanksSession(int&, char**&) {
+    const LauncherPlacement p = launcherPlacement();
+    if (p.launched && p.size > 1)
+        throw std::runtime_error(
+            "launched as rank " + std::to_string(p.rank) + " of " + std::to_string(p.size) +
+            ", but this octrace was built without MPI (each rank would do the whole run): "
+            "install libopenmpi-dev and openmpi-bin and rebuild (scripts/setup), or run one "
+            "process");
+}
+
+RanksSession::~RanksSession() {}
+
+#endif
+
+int Ranks::fail(const std::string& line, int status) {
+    if (size_ == 1) {
+        std::fprintf(stderr, "%s\n", line.c_str());
+        return status;
+    }
+    std::string shared = line;
+    int code = status;
+    agree(true, shared, code);
+    if (root()) std::fprintf(stderr, "%s\n", shared.c_str());
+    return code;
+}
+
+}  // namespace oct
