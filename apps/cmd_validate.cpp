@@ -11,6 +11,7 @@
 #include "apps/cli.h"
 #include "apps/diff_picture.h"
 #include "apps/policy_options.h"
+#include "apps/rank_share.h"
 #include "bench/table1/table1.h"
 #include "core/io/name_list.h"
 #include "core/io/output_file.h"
@@ -18,7 +19,6 @@
 #include "core/system/resources.h"
 #include "cpu_ref/render_cpu.h"
 #include "dist/ranks.h"
-#include "dist/split_work.h"
 #include "validation/regression/artifacts.h"
 #include "validation/regression/regression_run.h"
 #include "validation/report/report.h"
@@ -170,24 +170,6 @@ RegressionMode regressionMode(const ValidateCliOptions& o) {
     return o.update ? RegressionMode::Update : RegressionMode::Check;
 }
 
-// Across MPI ranks: every film by image rows, every ray batch and the per-ray rechecks by ray
-// rows (dist/split_work.h); each rank then holds the same films and answers and computes the
-// same report, which rank 0 prints and writes.
-WorkShare rankShare() {
-    WorkShare s;
-    s.render = [](const FrameParams& p, Film& f, const WorkShare::RenderCall& call) {
-        renderByRows(p, call, f, true);
-    };
-    s.trace = [](RayBatchView b, const WorkShare::TraceCall& call) { traceByRows(b, call, true); };
-    s.rows = [](uint64_t n) {
-        Ranks& ranks = Ranks::world();
-        const RowRange mine = ranks.rowsOf(n);
-        return RowShare{mine.begin, mine.end,
-                        [&ranks](void* data, uint64_t bytes) { ranks.combineOwned(data, bytes); }};
-    };
-    return s;
-}
-
 void runValidate(const ValidateCliOptions& o) {
     Ranks& ranks = Ranks::world();
     if (ranks.distributed() && (o.table1 || !o.regression.empty() || o.scene.path.empty()))
@@ -282,17 +264,10 @@ void runValidate(const ValidateCliOptions& o) {
         for (const BackendDesc* b : backendList) {
             std::shared_ptr<SceneTracer> t = b->prepare(*built.back());
             prepared.push_back(t);
-            WorkShare::RenderCall render = [t](const FrameParams& p, Film& film) {
-                t->render(p, film);
-            };
-            WorkShare::TraceCall trace = [t](RayBatchView batch) { t->trace(batch); };
-            if (ranks.distributed()) {  // the tracer's frames and batches split by rows
-                render = [s = vo.share, render](const FrameParams& p, Film& f) {
-                    s.render(p, f, render);
-                };
-                trace = [s = vo.share, trace](RayBatchView b) { s.trace(b, trace); };
-            }
-            tracers.push_back({l->name, b->name, render, trace, lookup});
+            tracers.push_back({l->name, b->name,
+                               [t](const FrameParams& p, Film& film) { t->render(p, film); },
+                               [t](RayBatchView batch) { t->trace(batch); }, lookup});
+            if (ranks.distributed()) shareTracer(tracers.back(), vo.share);
         }
     }
 

@@ -1,0 +1,295 @@
+// octrace under mpirun (dist/): trace, render, certify and validate across 2 and 3 ranks write
+// the same files, byte for byte, as one process (reports: the same JSON but for its seconds), on
+// the committed meshes and a grid cloud; a rank that fails or dies fails the whole run and
+// leaves no output. Skipped in a build without MPI (OCT_MPI=OFF) or without mpirun.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/io/npy.h"
+#include "dist/ranks.h"
+#include "tests/cli_harness.h"
+#include "tests/paths.h"
+
+namespace oct {
+namespace {
+
+namespace fs = std::filesystem;
+using octtest::kMeshes;
+using octtest::kTeapot;
+using octtest::quote;
+using octtest::readFile;
+using octtest::runOctrace;
+using octtest::RunOptions;
+using octtest::RunResult;
+using octtest::show;
+
+const std::string kMpiexec = OCT_MPIEXEC;
+const std::string kCornell = kMeshes + "/cornell_box.obj";
+const std::string kGrid = "grid:4096:3";  // the paper's grid cloud, one sphere a deepest leaf
+
+// mpirun's words for `ranks` processes on this machine: more ranks than cores allowed, as root
+// when the tests run as root (CI's container), and without Open MPI's own boxes (--quiet) unless
+// the test reads them.
+std::vector<std::string> mpirun(int ranks, bool quiet = true) {
+    std::vector<std::string> w = {kMpiexec, "--oversubscribe", "-np", std::to_string(ranks)};
+    if (::geteuid() == 0) w.push_back("--allow-run-as-root");
+    if (quiet) w.push_back("--quiet");
+    return w;
+}
+
+// A report without its timings: every "seconds" entry, at any depth.
+nlohmann::json withoutSeconds(const nlohmann::json& j) {
+    if (j.is_object()) {
+        nlohmann::json out = nlohmann::json::object();
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (it.key() != "seconds") out[it.key()] = withoutSeconds(it.value());
+        return out;
+    }
+    if (j.is_array()) {
+        nlohmann::json out = nlohmann::json::array();
+        for (const auto& v : j) out.push_back(withoutSeconds(v));
+        return out;
+    }
+    return j;
+}
+
+class Mpi : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!builtWithMpi()) GTEST_SKIP() << "built without MPI (OCT_MPI=OFF)";
+        if (kMpiexec.empty() || !fs::exists(kMpiexec)) GTEST_SKIP() << "no mpirun";
+        dir_ = std::make_unique<octtest::TempDir>("mpi");
+    }
+    std::string p(const std::string& name) const { return dir_->str(name); }
+    std::string q(const std::string& name) const { return quote(p(name)); }
+
+    RunResult one(const std::string& args) const {
+        return runOctrace(args, dir_->path() / "capture");
+    }
+    RunResult ranks(int k, const std::string& args, bool quiet = true) const {
+        RunOptions o;
+        o.launcher = mpirun(k, quiet);
+        o.timeoutSeconds = 240;
+        return runOctrace(octtest::splitWords(args), dir_->path() / "capture", o);
+    }
+    // Both files exist and hold the same bytes.
+    ::testing::AssertionResult sameBytes(const std::string& a, const std::string& b) const {
+        if (!fs::exists(p(a)) || !fs::exists(p(b)))
+            return ::testing::AssertionFailure() << a << " or " << b << " is missing";
+        if (readFile(p(a)) != readFile(p(b)))
+            return ::testing::AssertionFailure() << a << " and " << b << " differ";
+        return ::testing::AssertionSuccess();
+    }
+    nlohmann::json report(const std::string& name) const {
+        return withoutSeconds(nlohmann::json::parse(readFile(p(name))));
+    }
+    // Nothing in the folder but the inputs named (no output, no temporary, no lock file).
+    std::vector<std::string> filesBut(const std::vector<std::string>& inputs) const {
+        std::vector<std::string> left;
+        for (const auto& e : fs::directory_iterator(dir_->path())) {
+            const std::string name = e.path().filename().string();
+            if (name == "capture") continue;
+            if (std::find(inputs.begin(), inputs.end(), name) == inputs.end()) left.push_back(name);
+        }
+        return left;
+    }
+    void makeRays(const std::string& scene, const std::string& name, const std::string& extra) {
+        const RunResult r = one("rays " + quote(scene) + " --out " + q(name) + " " + extra);
+        ASSERT_EQ(r.status, 0) << show(r);
+    }
+
+    std::unique_ptr<octtest::TempDir> dir_;
+};
+
+TEST_F(Mpi, TraceWritesTheOneProcessFilesOnTwoAndThreeRanks) {
+    for (const auto& [scene, accel] : {std::pair{kTeapot, "hash"}, {kGrid, "linear"}}) {
+        SCOPED_TRACE(scene);
+        makeRays(scene, "R.npy", "--count 3001 --size 31x17");
+        const std::string trace =
+            "trace " + quote(scene) + " --backend cpu --accel " + accel + " --rays " + q("R.npy");
+        RunResult r = one(trace + " --out " + q("one"));
+        ASSERT_EQ(r.status, 0) << show(r);
+        for (int k : {2, 3}) {
+            const std::string out = "k" + std::to_string(k);
+            r = ranks(k, trace + " --out " + q(out));
+            ASSERT_EQ(r.status, 0) << show(r);
+            EXPECT_EQ(r.err, "");
+            EXPECT_NE(r.out.find("ranks   " + std::to_string(k)), std::string::npos) << r.out;
+            EXPECT_TRUE(sameBytes("one.t.npy", out + ".t.npy"));
+            EXPECT_TRUE(sameBytes("one.prim.npy", out + ".prim.npy"));
+            // The record: the same rows and digests (its id and file stamps are each run's).
+            const nlohmann::json a = nlohmann::json::parse(readFile(p("one.run.json")));
+            const nlohmann::json b = nlohmann::json::parse(readFile(p(out + ".run.json")));
+            EXPECT_EQ(a["rows"], b["rows"]);
+            EXPECT_EQ(a["t"]["fnv1a64"], b["t"]["fnv1a64"]);
+            EXPECT_EQ(a["prim"]["fnv1a64"], b["prim"]["fnv1a64"]);
+            // certify takes the pair as trace's own (the record vouches for both files).
+            r = one("certify " + quote(scene) + " --rays " + q("R.npy") + " --hits " + q(out));
+            EXPECT_EQ(r.status, 0) << show(r);
+        }
+        for (const std::string& f : filesBut({})) fs::remove(p(f));
+    }
+}
+
+TEST_F(Mpi, RenderWritesTheOneProcessImagesAndArrays) {
+    // 37 rows: no rank count divides them, and the ranks' bands differ in height.
+    for (const std::string& scene : {kCornell, kGrid}) {
+        SCOPED_TRACE(scene);
+        auto render = [&](const std::string& tag) {
+            return "render " + quote(scene) + " --backend cpu --size 45x37 --out " +
+                   q(tag + ".png") + " --depth " + q(tag + ".t.npy") + " --prim " +
+                   q(tag + ".prim.npy") + " --cost " + q(tag + ".cost.npy") + " --heatmap-out " +
+                   q(tag + ".heat.png") + " --overlay-out " + q(tag + ".cells.png") +
+                   " --compare-embree";
+        };
+        RunResult r = one(render("one"));
+        ASSERT_EQ(r.status, 0) << show(r);
+        const std::string agreement = r.out.substr(r.out.find("embree "));
+        for (int k : {2, 3}) {
+            const std::string tag = "k" + std::to_string(k);
+            r = ranks(k, render(tag));
+            ASSERT_EQ(r.status, 0) << show(r);
+            for (const char* ext :
+                 {".png", ".t.npy", ".prim.npy", ".cost.npy", ".heat.png", ".cells.png"})
+                EXPECT_TRUE(sameBytes(std::string("one") + ext, tag + ext));
+            // Embree's frame by bands as well: the same agreement line.
+            EXPECT_NE(r.out.find(agreement), std::string::npos) << r.out;
+        }
+    }
+}
+
+TEST_F(Mpi, RenderWithMoreRanksThanRowsLeavesTheExtraRanksNothing) {
+    RunResult r = one("render " + quote(kCornell) + " --backend cpu --size 9x2 --out " +
+                      q("one.png") + " --depth " + q("one.t.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    r = ranks(3, "render " + quote(kCornell) + " --backend cpu --size 9x2 --out " + q("k.png") +
+                     " --depth " + q("k.t.npy"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    EXPECT_TRUE(sameBytes("one.png", "k.png"));
+    EXPECT_TRUE(sameBytes("one.t.npy", "k.t.npy"));
+}
+
+// A faulty tracer's answers under a recheck cap: the cap counts rows in row order across ranks,
+// so the verdicts, counts and listed findings are the one process's.
+TEST_F(Mpi, CertifyJudgesAFaultyTracerAsOneProcessDoes) {
+    makeRays(kTeapot, "R.npy", "--count 4000 --size 24x16");
+    RunResult r =
+        one("trace " + quote(kTeapot) + " --backend cpu --rays " + q("R.npy") + " --out " + q("H"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    NpyArray t = readNpy(p("H.t.npy")), prim = readNpy(p("H.prim.npy"));
+    const size_t n = t.elementCount();
+    std::vector<float> tv(n);
+    std::vector<int32_t> pv(n);
+    std::memcpy(tv.data(), t.data.data(), n * 4);
+    std::memcpy(pv.data(), prim.data.data(), n * 4);
+    for (size_t i = 0; i < n; i += 7) tv[i] = std::isfinite(tv[i]) ? tv[i] * 1.01f : 5.0f;
+    for (size_t i = 3; i < n; i += 11) pv[i] = (pv[i] + 3) % 992;
+    for (size_t i = 5; i < n; i += 13) {
+        tv[i] = INFINITY;
+        pv[i] = -1;
+    }
+    writeNpy(p("B.t.npy"), "<f4", {n}, tv.data(), 4);
+    writeNpy(p("B.prim.npy"), "<i4", {n}, pv.data(), 4);
+    for (const std::string& cap : {"", " --max-rechecks 25"}) {
+        SCOPED_TRACE(cap);
+        auto certify = [&](const std::string& tag) {
+            return "certify " + quote(kTeapot) + " --rays " + q("R.npy") + " --hits " + q("B") +
+                   " --verdicts " + q(tag) + " --json " + q(tag + ".json") + " --diff-image " +
+                   q(tag + ".png") + cap;
+        };
+        const RunResult single = one(certify("one"));
+        ASSERT_EQ(single.status, 1) << show(single);  // FAIL
+        for (int k : {2, 3}) {
+            const std::string tag = "k" + std::to_string(k);
+            r = ranks(k, certify(tag));
+            EXPECT_EQ(r.status, 1) << show(r);
+            EXPECT_EQ(r.err, single.err);  // the verdict line, once
+            for (const char* f : {".class.npy", ".reasons.npy", ".leak.npy", ".png"})
+                EXPECT_TRUE(sameBytes(std::string("one") + f, tag + f));
+            EXPECT_EQ(report("one.json"), report(tag + ".json"));
+        }
+    }
+}
+
+TEST_F(Mpi, ValidateReportsWhatOneProcessReports) {
+    auto validate = [&](const std::string& tag) {
+        return "validate " + quote(kCornell) +
+               " --backend cpu --accel linear,hash --size 40x27 --rays 1500 --json " +
+               q(tag + ".json") + " --diff-image " + q(tag + ".png");
+    };
+    RunResult r = one(validate("one"));
+    ASSERT_EQ(r.status, 0) << show(r);
+    for (int k : {2, 3}) {
+        const std::string tag = "k" + std::to_string(k);
+        r = ranks(k, validate(tag));
+        ASSERT_EQ(r.status, 0) << show(r);
+        EXPECT_EQ(report("one.json"), report(tag + ".json"));
+        for (const char* run : {"-linear-cpu.png", "-hash-cpu.png"})
+            EXPECT_TRUE(sameBytes(std::string("one") + run, tag + run));
+    }
+    // The regression set and Table 1 stay one process's: refused, in one line.
+    r = ranks(2, "validate --table1");
+    EXPECT_EQ(r.status, 2) << show(r);
+    EXPECT_EQ(r.err.rfind("octrace: rank 0 of 2: error: across MPI ranks validate", 0), 0u)
+        << r.err;
+}
+
+// Bad input only the last rank reads (its slice of the ray file): every rank stops, the run
+// exits 2 with one line naming that rank and the row a whole read names, and leaves nothing.
+TEST_F(Mpi, ARankThatReadsABadRowFailsTheRunInOneLine) {
+    makeRays(kTeapot, "R.npy", "--count 3000 --size 16x16");
+    NpyArray rays = readNpy(p("R.npy"));
+    const uint64_t n = rays.shape[0], bad = n - 5;
+    float tmin = -1.0f;
+    std::memcpy(rays.data.data() + (bad * 8 + 6) * 4, &tmin, 4);
+    writeNpy(p("B.npy"), "<f4", rays.shape, rays.data.data(), 4);
+    const std::string trace =
+        "trace " + quote(kTeapot) + " --backend cpu --rays " + q("B.npy") + " --out " + q("T");
+    const RunResult single = one(trace);
+    ASSERT_EQ(single.status, 2) << show(single);
+    const RunResult r = ranks(3, trace);
+    EXPECT_TRUE(r.status == 2 && !r.timedOut) << show(r);
+    // "octrace: error: MSG" from one process is "octrace: rank 2 of 3: error: MSG" here.
+    EXPECT_EQ(r.err, "octrace: rank 2 of 3: " + single.err.substr(std::strlen("octrace: ")))
+        << r.err;
+    EXPECT_EQ(filesBut({"R.npy", "R.json", "B.npy"}), std::vector<std::string>{});
+}
+
+// A rank that dies (SIGKILL, as the OOM killer sends) before it traces: mpirun ends the run with
+// a failure naming the rank, and rank 0 leaves no output, temporary or lock behind.
+TEST_F(Mpi, AKilledRankFailsTheRunAndLeavesNoOutput) {
+    makeRays(kTeapot, "R.npy", "--count 2000 --size 16x16");
+    RunOptions o;
+    o.launcher = mpirun(2, false);
+    for (const char* w :
+         {"/bin/sh", "-c", "if [ \"$OMPI_COMM_WORLD_RANK\" = 1 ]; then kill -9 $$; fi; exec \"$@\"",
+          "sh"})
+        o.launcher.push_back(w);
+    o.timeoutSeconds = 120;
+    const RunResult r =
+        runOctrace({"trace", kTeapot, "--backend", "cpu", "--rays", p("R.npy"), "--out", p("T")},
+                   dir_->path() / "capture", o);
+    EXPECT_FALSE(r.timedOut) << show(r);
+    EXPECT_NE(r.status, 0) << show(r);
+    EXPECT_NE(r.err.find("rank 1"), std::string::npos) << r.err;
+    EXPECT_EQ(filesBut({"R.npy", "R.json"}), std::vector<std::string>{});
+}
+
+// An output rank 0 refuses (its folder is missing) stops every rank before the work.
+TEST_F(Mpi, AnOutputRankZeroRefusesStopsEveryRank) {
+    makeRays(kTeapot, "R.npy", "--count 500 --size 8x8");
+    const RunResult r = ranks(3, "trace " + quote(kTeapot) + " --backend cpu --rays " + q("R.npy") +
+                                     " --out " + q("missing/T"));
+    EXPECT_EQ(r.status, 2) << show(r);
+    EXPECT_EQ(r.err.rfind("octrace: rank 0 of 3: error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+}  // namespace
+}  // namespace oct
