@@ -152,8 +152,7 @@ void runCertify(const CertifyCliOptions& o) {
             manifestPath + " beside them");
     RowShare share;  // this rank's rows, merged with the others' (collective)
     if (ranks.distributed()) {
-        const RowRange mine = ranks.rowsOf(n);
-        share = {mine.begin, mine.end,
+        share = {ranks.deal(n).block, uint32_t(ranks.rank()), uint32_t(ranks.size()),
                  [&ranks](void* data, uint64_t bytes) { ranks.combineOwned(data, bytes); }};
         ro.query.share = &share;
     }

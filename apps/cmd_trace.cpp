@@ -27,6 +27,28 @@ struct TraceOptions {
     TraceChoice trace{kDefaultLayout, "auto"};
 };
 
+// Every row by trace's rule, across ranks: the ranks agree on the lowest bad row of the file,
+// and only its rank throws (the others learn it at their next collective call), so the run
+// names the row one process names. `rays` holds this rank's blocks, packed.
+void checkRowsOfRanks(Ranks& ranks, const std::string& path, const float* rays,
+                      const std::vector<RowRange>& blocks) {
+    uint64_t packed = 0, lowest = UINT64_MAX;
+    for (const RowRange& b : blocks) {
+        const uint64_t bad = firstBadRayRow(rays + 8 * packed, b.count());
+        if (bad < b.count()) {
+            lowest = b.begin + bad;
+            packed += bad;
+            break;
+        }
+        packed += b.count();
+    }
+    const uint64_t first = ranks.minOver(lowest);
+    if (first == UINT64_MAX) return;
+    if (first == lowest)
+        throw IoError(badRayRowMessage("'" + path + "'", first, rays + 8 * packed));
+    ranks.checkpoint();  // throws RankFailed: the row's rank failed
+}
+
 void runTrace(const TraceOptions& o) {
     const LayoutDesc& layout = parseOneLayout(o.trace.accel, "trace");
     std::string note;
@@ -50,19 +72,24 @@ void runTrace(const TraceOptions& o) {
     };
     Clock::time_point t0 = Clock::now();
     std::unique_ptr<float[]> rays;
-    RowRange mine;
+    std::vector<RowRange> blocks;  // this rank's rows (dist/ranks.h, RowDeal), read packed
+    uint64_t mine = 0;
     const uint64_t n = readRayFileRowsInto(
         o.rays,
         [&](uint64_t rows) {
-            mine = ranks.rowsOf(rows);
-            return RowSpan{mine.begin, mine.end};
+            blocks = ranks.blocksOf(rows);
+            std::vector<RowSpan> spans;
+            for (const RowRange& b : blocks) spans.push_back({b.begin, b.end});
+            return spans;
         },
         [&](uint64_t rows) {
             // The rows, then a t and a prim per row in the output files (rank 0: every row's).
             checkRayFileMemory("trace", o.rays, rows, 8 * sizeof(float) + sizeof(float) + 4);
             rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
+            mine = rows;
             return rays.get();
         });
+    checkRowsOfRanks(ranks, o.rays, rays.get(), blocks);
 
     const double readSeconds = since(t0);
     t0 = Clock::now();
@@ -70,28 +97,29 @@ void runTrace(const TraceOptions& o) {
     const double loadSeconds = since(t0);
     BuiltScene bs =
         backend.usesLayouts ? buildScene(scene, layout, o.scene.layoutOptions()) : bareScene(scene);
-    // Rank 0's rows are the first: it traces straight into the output files' data sections, the
-    // other ranks into their own arrays, which rank 0 then gathers into the rest.
+    // One process traces straight into the output files' data sections; across ranks each traces
+    // its packed rows into its own arrays, which rank 0 then gathers into their places there.
     std::optional<NpyBuffer> tFile, primFile;
     std::vector<float> tMine;
     std::vector<int32_t> primMine;
-    float* t = nullptr;
-    int32_t* prim = nullptr;
+    float *t = nullptr, *tTraced = nullptr;
+    int32_t *prim = nullptr, *primTraced = nullptr;
     if (ranks.root()) {
         tFile.emplace("<f4", std::vector<uint64_t>{n}, 4);
         primFile.emplace("<i4", std::vector<uint64_t>{n}, 4);
-        t = static_cast<float*>(tFile->data());
-        prim = static_cast<int32_t*>(primFile->data());
-    } else {
-        tMine.resize(mine.count());
-        primMine.resize(mine.count());
-        t = tMine.data();
-        prim = primMine.data();
+        t = tTraced = static_cast<float*>(tFile->data());
+        prim = primTraced = static_cast<int32_t*>(primFile->data());
     }
-    double seconds = traceWith(backend, bs, {rays.get(), t, prim, mine.count()});
+    if (ranks.distributed()) {
+        tMine.resize(mine);
+        primMine.resize(mine);
+        tTraced = tMine.data();
+        primTraced = primMine.data();
+    }
+    double seconds = traceWith(backend, bs, {rays.get(), tTraced, primTraced, mine});
     t0 = Clock::now();
-    ranks.gatherRows(t, t, n, sizeof(float));
-    ranks.gatherRows(prim, prim, n, sizeof(int32_t));
+    ranks.gatherRows(tTraced, t, n, sizeof(float));
+    ranks.gatherRows(primTraced, prim, n, sizeof(int32_t));
     const double gatherSeconds = since(t0);
     seconds = ranks.maxOver(seconds);  // the slowest rank's
     const double outside[] = {ranks.maxOver(readSeconds), ranks.maxOver(loadSeconds),

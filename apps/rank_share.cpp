@@ -13,8 +13,7 @@ WorkShare rankShare() {
     s.trace = [](RayBatchView b, const WorkShare::TraceCall& call) { traceByRows(b, call, true); };
     s.rows = [](uint64_t n) {
         Ranks& ranks = Ranks::world();
-        const RowRange mine = ranks.rowsOf(n);
-        return RowShare{mine.begin, mine.end,
+        return RowShare{ranks.deal(n).block, uint32_t(ranks.rank()), uint32_t(ranks.size()),
                         [&ranks](void* data, uint64_t bytes) { ranks.combineOwned(data, bytes); }};
     };
     return s;

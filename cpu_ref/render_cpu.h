@@ -18,10 +18,12 @@ void setCpuThreads(int threads);
 template <class Accel>
 void renderFrameCpu(const FrameParams& p, const Accel& accel, const PrimitivesView& prims,
                     FilmView film) {
-    const int end = p.bandBegin + frameRows(p);
+    const int rows = frameRows(p);
 #pragma omp parallel for schedule(dynamic, 4)
-    for (int y = p.bandBegin; y < end; ++y)
+    for (int j = 0; j < rows; ++j) {
+        const int y = imageRowOf(p, j);
         for (int x = 0; x < p.width; ++x) renderPixel(x, y, p, accel, prims, film);
+    }
 }
 
 template <class Accel>

@@ -14,14 +14,34 @@
 
 namespace oct {
 
-RowRange rowsOfRank(uint64_t n, int rank, int ranks) {
-    if (ranks < 1 || rank < 0 || rank >= ranks)
-        throw std::invalid_argument("rowsOfRank: rank " + std::to_string(rank) + " of " +
+RowDeal dealRows(uint64_t n, int ranks) {
+    if (ranks < 1) throw std::invalid_argument("dealRows: " + std::to_string(ranks) + " ranks");
+    constexpr uint64_t kLargestBlock = 65536, kBlocksPerRank = 16;
+    const uint64_t k = uint64_t(ranks) * kBlocksPerRank;
+    RowDeal d;
+    d.n = n;
+    d.ranks = ranks;
+    // One rank: one block of every row.
+    d.block = ranks == 1 ? std::max<uint64_t>(1, n)
+                         : std::max<uint64_t>(1, std::min(kLargestBlock, (n + k - 1) / k));
+    return d;
+}
+
+std::vector<RowRange> RowDeal::blocksOf(int rank) const {
+    if (rank < 0 || rank >= ranks)
+        throw std::invalid_argument("RowDeal: rank " + std::to_string(rank) + " of " +
                                     std::to_string(ranks));
-    const uint64_t k = uint64_t(ranks), r = uint64_t(rank);
-    const uint64_t base = n / k, extra = n % k;
-    const uint64_t begin = r * base + std::min(r, extra);
-    return {begin, begin + base + (r < extra ? 1 : 0)};
+    std::vector<RowRange> out;
+    const uint64_t step = block * uint64_t(ranks);
+    for (uint64_t b = uint64_t(rank) * block; b < n; b += step)
+        out.push_back({b, std::min(n, b + block)});
+    return out;
+}
+
+uint64_t RowDeal::countOf(int rank) const {
+    uint64_t c = 0;
+    for (const RowRange& r : blocksOf(rank)) c += r.count();
+    return c;
 }
 
 Ranks& Ranks::world() {
@@ -77,38 +97,63 @@ void Ranks::checkpoint() {
     if (agree(false, line, status) != size_) throw RankFailed(root() ? line : "", status);
 }
 
-void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
-    checkpoint();
-    if (root() && mine != all) std::memmove(all, mine, rowsOf(n).count() * elemBytes);
-    if (size_ == 1) return;
-    // Rank 0 receives each rank's rows in turn, in pieces (MPI counts are ints).
-    auto pieces = [&](int peer, char* at, uint64_t bytes, bool receive) {
-        for (uint64_t left = bytes; left > 0;) {
-            const int m = int(std::min(left, kPieceBytes));
-            if (receive)
-                MPI_Recv(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-            else
-                MPI_Send(at, m, MPI_BYTE, 0, 0, MPI_COMM_WORLD);
-            at += m;
-            left -= uint64_t(m);
-        }
-    };
-    if (root()) {
-        for (int r = 1; r < size_; ++r) {
-            const RowRange rows = rowsOfRank(n, r, size_);
-            pieces(r, static_cast<char*>(all) + rows.begin * elemBytes, rows.count() * elemBytes,
-                   true);
-        }
-    } else {
-        pieces(0, const_cast<char*>(static_cast<const char*>(mine)), rowsOf(n).count() * elemBytes,
-               false);
+namespace {
+
+// Sends or receives `bytes` at `at` in pieces of at most kPieceBytes (MPI counts are ints).
+void movePieces(char* at, uint64_t bytes, int peer, bool receive) {
+    for (uint64_t left = bytes; left > 0;) {
+        const int m = int(std::min(left, kPieceBytes));
+        if (receive)
+            MPI_Recv(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        else
+            MPI_Send(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD);
+        at += m;
+        left -= uint64_t(m);
     }
 }
 
-void Ranks::allgatherRows(void* data, uint64_t n, size_t elemBytes) {
-    char* at = static_cast<char*>(data);
-    gatherRows(at + rowsOf(n).begin * elemBytes, data, n, elemBytes);
+// Rank 0 receives every other rank's blocks in turn, into place; a rank sends its blocks from its
+// packed rows (`packed`) or from their places in a whole array (`packed` null, `whole`).
+void gatherBlocks(int rank, int size, const RowDeal& d, const char* packed, char* whole,
+                  size_t elemBytes) {
+    if (rank == 0) {
+        for (int r = 1; r < size; ++r)
+            for (const RowRange& b : d.blocksOf(r))
+                movePieces(whole + b.begin * elemBytes, b.count() * elemBytes, r, true);
+        return;
+    }
+    uint64_t offset = 0;
+    for (const RowRange& b : d.blocksOf(rank)) {
+        const char* from = packed ? packed + offset * elemBytes : whole + b.begin * elemBytes;
+        movePieces(const_cast<char*>(from), b.count() * elemBytes, 0, false);
+        offset += b.count();
+    }
+}
+
+}  // namespace
+
+void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
+    checkpoint();
+    const RowDeal d = deal(n);
+    if (root() && mine != all) {  // rank 0's own rows into place
+        uint64_t offset = 0;
+        for (const RowRange& b : d.blocksOf(0)) {
+            std::memmove(static_cast<char*>(all) + b.begin * elemBytes,
+                         static_cast<const char*>(mine) + offset * elemBytes,
+                         b.count() * elemBytes);
+            offset += b.count();
+        }
+    }
     if (size_ == 1) return;
+    gatherBlocks(rank_, size_, d, static_cast<const char*>(mine), static_cast<char*>(all),
+                 elemBytes);
+}
+
+void Ranks::allgatherRows(void* data, uint64_t n, size_t elemBytes) {
+    checkpoint();
+    if (size_ == 1) return;
+    char* at = static_cast<char*>(data);
+    gatherBlocks(rank_, size_, deal(n), nullptr, at, elemBytes);
     for (uint64_t left = n * elemBytes; left > 0;) {
         const int m = int(std::min(left, kPieceBytes));
         MPI_Bcast(at, m, MPI_BYTE, 0, MPI_COMM_WORLD);
@@ -138,6 +183,12 @@ double Ranks::maxOver(double v) {
 uint64_t Ranks::sumOver(uint64_t v) {
     checkpoint();
     if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    return v;
+}
+
+uint64_t Ranks::minOver(uint64_t v) {
+    checkpoint();
+    if (size_ > 1) MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_UINT64_T, MPI_MIN, MPI_COMM_WORLD);
     return v;
 }
 
@@ -173,12 +224,13 @@ RanksSession::~RanksSession() {
 int Ranks::agree(bool failed, std::string&, int&) { return failed ? 0 : 1; }
 void Ranks::checkpoint() {}
 void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
-    if (mine != all) std::memmove(all, mine, n * elemBytes);
+    if (mine != all) std::memmove(all, mine, n * elemBytes);  // one rank: its rows are all
 }
 void Ranks::allgatherRows(void*, uint64_t, size_t) {}
 void Ranks::combineOwned(void*, uint64_t) {}
 double Ranks::maxOver(double v) { return v; }
 uint64_t Ranks::sumOver(uint64_t v) { return v; }
+uint64_t Ranks::minOver(uint64_t v) { return v; }
 
 RanksSession::RanksSession(int&, char**&) {
     const LauncherPlacement p = launcherPlacement();

@@ -1,7 +1,7 @@
 // The ranks of one octrace run (docs/DISTRIBUTED.md). Under a launcher (mpirun, srun) they are
-// the processes of MPI_COMM_WORLD, and each takes one contiguous share of the rows: ray rows for
-// trace and certify, image rows for render and validate. Otherwise there is one rank, this
-// process, and every collective call below returns at once (a build without MPI is that case).
+// the processes of MPI_COMM_WORLD, and each takes a share of the rows, dealt in blocks (RowDeal):
+// ray rows for trace and certify, image rows for render and validate. Otherwise there is one rank,
+// this process, and every collective call below returns at once (a build without MPI is that case).
 // Rank 0 writes the outputs and prints; RanksSession quiets the others.
 //
 // Failure, without a hang: every collective call starts with one agreement (an all-reduce of
@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace oct {
 
@@ -26,10 +27,25 @@ struct RowRange {
     bool operator==(const RowRange& o) const { return begin == o.begin && end == o.end; }
 };
 
-// The rows of `rank` among `ranks` for n rows: contiguous, in rank order, their counts differing
-// by at most one (the first n % ranks ranks take one more). Throws std::invalid_argument for a
-// rank outside [0, ranks).
-RowRange rowsOfRank(uint64_t n, int rank, int ranks);
+// n rows dealt to `ranks` ranks in blocks of `block` rows, round robin: block b (rows
+// [b * block, (b + 1) * block), the last one shorter) goes to rank b mod ranks. Contiguous halves
+// would not balance: the rows of a ray file come set after set, and on the bunny the first half
+// of 4M seeded rays took 1.5x the second's trace time (docs/PERFORMANCE.md, "Across ranks").
+// A rank's rows are kept block after block, in row order (its "packed" rows).
+struct RowDeal {
+    uint64_t n = 0, block = 1;
+    int ranks = 1;
+
+    int ownerOf(uint64_t row) const { return int((row / block) % uint64_t(ranks)); }
+    std::vector<RowRange> blocksOf(int rank) const;  // in row order
+    uint64_t countOf(int rank) const;                // its rows
+};
+
+// The deal the ranks use for n rows: blocks of ceil(n / (16 ranks)) rows, at most 65,536 (at
+// least 16 blocks a rank, each block large enough to read and send at once), 1 at least; one
+// block of all rows for one rank.
+// Throws std::invalid_argument for ranks < 1.
+RowDeal dealRows(uint64_t n, int ranks);
 
 // Thrown by a collective call on a rank that did not fail when another did: that rank's line is
 // printed by rank 0 (line() holds it there, "" elsewhere); every rank exits with status().
@@ -55,23 +71,26 @@ public:
     int localRank() const { return localRank_; }  // on this node (the GPU it takes)
     bool root() const { return rank_ == 0; }
     bool distributed() const { return size_ > 1; }
-    RowRange rowsOf(uint64_t n) const { return rowsOfRank(n, rank_, size_); }
+    RowDeal deal(uint64_t n) const { return dealRows(n, size_); }
+    std::vector<RowRange> blocksOf(uint64_t n) const { return deal(n).blocksOf(rank_); }
 
     // ---- Collective: every rank makes the same calls in the same order. Each throws RankFailed
     // when some rank failed, before it moves any data.
     void checkpoint();
-    // Rows of elemBytes bytes: `mine` holds this rank's rowsOf(n); afterwards rank 0's `all` (n
-    // rows; ignored elsewhere, may be null) holds every rank's. `mine` may be rank 0's `all`.
+    // Rows of elemBytes bytes dealt by deal(n): `mine` holds this rank's rows packed (block after
+    // block); afterwards rank 0's `all` (n rows; ignored elsewhere, may be null) holds every
+    // rank's, each in its place.
     void gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes);
-    // `data` holds n rows, this rank's rowsOf(n) filled: afterwards every rank's holds all.
+    // `data` holds n rows, this rank's filled in place: afterwards every rank's holds all.
     void allgatherRows(void* data, uint64_t n, size_t elemBytes);
     // Merges `bytes` bytes in place from every rank by bitwise or: each byte set by at most one
     // rank, zero on the others (the arrays certify's ranks fill row by row, validation/).
     void combineOwned(void* data, uint64_t bytes);
     // The largest of the ranks' values (the slowest rank's seconds), on every rank.
     double maxOver(double v);
-    // The sum of the ranks' values, on every rank.
+    // The sum and the least of the ranks' values, on every rank.
     uint64_t sumOver(uint64_t v);
+    uint64_t minOver(uint64_t v);
 
     // The CLI's handler on a rank that failed, with its one line ("octrace: error: ...") and exit
     // status: meets the others' agreement and returns the status every rank exits with; rank 0

@@ -7,20 +7,21 @@
 namespace oct {
 namespace {
 
-// One channel of the band into the whole Film's: `perPixel` elements of T a pixel.
+// One channel of the band (its rows packed) into the whole Film's: `perPixel` elements of T a
+// pixel, rank 0's or every rank's.
 template <class T>
 void gatherChannel(Ranks& ranks, const std::vector<T>& band, std::vector<T>& whole, int width,
                    int height, int perPixel, bool everywhere) {
     const size_t rowBytes = size_t(width) * size_t(perPixel) * sizeof(T);
-    if (everywhere) {
-        const RowRange rows = ranks.rowsOf(uint64_t(height));
-        if (!band.empty())
-            std::memcpy(reinterpret_cast<char*>(whole.data()) + rows.begin * rowBytes, band.data(),
-                        rows.count() * rowBytes);
-        ranks.allgatherRows(whole.data(), uint64_t(height), rowBytes);
-    } else {
-        ranks.gatherRows(band.data(), whole.data(), uint64_t(height), rowBytes);
+    if (!everywhere) return ranks.gatherRows(band.data(), whole.data(), uint64_t(height), rowBytes);
+    uint64_t j = 0;  // the band's rows into their places, then every rank's everywhere
+    for (const RowRange& b : ranks.blocksOf(uint64_t(height))) {
+        std::memcpy(reinterpret_cast<char*>(whole.data()) + b.begin * rowBytes,
+                    reinterpret_cast<const char*>(band.data()) + j * rowBytes,
+                    b.count() * rowBytes);
+        j += b.count();
     }
+    ranks.allgatherRows(whole.data(), uint64_t(height), rowBytes);
 }
 
 }  // namespace
@@ -28,12 +29,15 @@ void gatherChannel(Ranks& ranks, const std::vector<T>& band, std::vector<T>& who
 void renderByRows(const FrameParams& frame, const RenderFn& render, Film& film, bool everywhere) {
     Ranks& ranks = Ranks::world();
     if (!ranks.distributed()) return render(frame, film);
-    const RowRange rows = ranks.rowsOf(uint64_t(frame.height));
+    const RowDeal deal = ranks.deal(uint64_t(frame.height));
+    const uint64_t rows = deal.countOf(ranks.rank());
     Film band(frame.width, 0);
-    if (rows.count() > 0) {  // bandRows 0 would mean the whole image
+    if (rows > 0) {  // bandRows 0 would mean the whole image
         FrameParams p = frame;
-        p.bandBegin = int(rows.begin);
-        p.bandRows = int(rows.count());
+        p.bandBegin = int(uint64_t(ranks.rank()) * deal.block);
+        p.bandRows = int(rows);
+        p.bandBlock = int(deal.block);
+        p.bandStride = int(deal.block * uint64_t(deal.ranks));
         render(p, band);
     }
     Film whole;
@@ -52,26 +56,38 @@ void traceByRows(RayBatchView batch, const std::function<void(RayBatchView)>& tr
                  bool everywhere) {
     Ranks& ranks = Ranks::world();
     if (!ranks.distributed()) return trace(batch);
-    const RowRange rows = ranks.rowsOf(batch.count);
-    RayBatchView mine = batch;
-    mine.rays = batch.rays + 8 * rows.begin;
-    mine.t = batch.t + rows.begin;
-    mine.prim = batch.prim + rows.begin;
-    if (batch.nodes) mine.nodes = batch.nodes + rows.begin;
-    if (batch.primsTested) mine.primsTested = batch.primsTested + rows.begin;
-    mine.count = rows.count();
-    if (mine.count > 0) trace(mine);
-    auto gather = [&](auto* all) {
+    // This rank's rows packed into one batch, traced at once, the answers put back in place.
+    const std::vector<RowRange> blocks = ranks.blocksOf(batch.count);
+    uint64_t m = 0;
+    for (const RowRange& b : blocks) m += b.count();
+    std::vector<float> rays(m * 8), t(m);
+    std::vector<int32_t> prim(m);
+    std::vector<uint32_t> nodes(batch.nodes ? m : 0), tested(batch.primsTested ? m : 0);
+    uint64_t j = 0;
+    for (const RowRange& b : blocks) {
+        std::memcpy(rays.data() + 8 * j, batch.rays + 8 * b.begin, b.count() * 8 * sizeof(float));
+        j += b.count();
+    }
+    RayBatchView mine{rays.data(), t.data(), prim.data(), m};
+    if (batch.nodes) mine.nodes = nodes.data();
+    if (batch.primsTested) mine.primsTested = tested.data();
+    if (m > 0) trace(mine);
+    auto place = [&](const auto* packed, auto* all) {
         if (!all) return;
+        uint64_t k = 0;
+        for (const RowRange& b : blocks) {
+            std::memcpy(all + b.begin, packed + k, b.count() * sizeof(*all));
+            k += b.count();
+        }
         if (everywhere)
             ranks.allgatherRows(all, batch.count, sizeof(*all));
         else
-            ranks.gatherRows(all + rows.begin, all, batch.count, sizeof(*all));
+            ranks.gatherRows(packed, all, batch.count, sizeof(*all));
     };
-    gather(batch.t);
-    gather(batch.prim);
-    gather(batch.nodes);
-    gather(batch.primsTested);
+    place(t.data(), batch.t);
+    place(prim.data(), batch.prim);
+    place(nodes.data(), batch.nodes);
+    place(tested.data(), batch.primsTested);
 }
 
 FrameRun renderWithByRows(const BackendDesc& backend, const BuiltScene& scene,

@@ -1,6 +1,7 @@
-// Work split by rows across the ranks (dist/ranks.h). A frame by image rows: each rank renders
-// one band (FrameParams::bandBegin, bandRows) and the bands are gathered into the whole Film. A
-// ray batch by ray rows: each rank traces its rows and the answers are gathered. A pixel's rays
+// Work split by rows across the ranks (dist/ranks.h, RowDeal). A frame by image rows: each rank
+// renders its band (FrameParams::bandBegin .. bandStride: its blocks of rows) and the bands are
+// gathered into the whole Film. A ray batch by ray rows: each rank traces its rows and the
+// answers are gathered. A pixel's rays
 // depend on its (x, y) and the frame only, a ray's answer on its row only, so what is gathered
 // equals, byte for byte, what a single process computes (tests/dist/).
 #pragma once
@@ -21,9 +22,9 @@ using RenderFn = std::function<void(const FrameParams&, Film&)>;
 // (more ranks than rows) renders nothing. Collective (every rank calls it).
 void renderByRows(const FrameParams& frame, const RenderFn& render, Film& film, bool everywhere);
 
-// Traces `batch` by rows: each rank traces its rowsOf(count) with `trace`, then the t and prim
-// arrays (and nodes and primsTested when given) hold every row's on rank 0, or on every rank
-// when `everywhere`. Collective.
+// Traces `batch` by rows: each rank traces its rows (packed, in one call) with `trace`, then the
+// t and prim arrays (and nodes and primsTested when given) hold every row's on rank 0, or on
+// every rank when `everywhere`. Collective.
 void traceByRows(RayBatchView batch, const std::function<void(RayBatchView)>& trace,
                  bool everywhere);
 

@@ -25,8 +25,8 @@ template <class Accel>
 __global__ void __launch_bounds__(kBlockThreads, kMinBlocksPerSm)
     renderKernel(FrameParams p, Accel accel, PrimitivesView prims, FilmView film) {
     int x = blockIdx.x * blockDim.x + threadIdx.x;
-    int y = p.bandBegin + int(blockIdx.y * blockDim.y + threadIdx.y);
-    if (x < p.width && y < p.bandBegin + frameRows(p)) renderPixel(x, y, p, accel, prims, film);
+    int j = int(blockIdx.y * blockDim.y + threadIdx.y);  // the Film's row (camera.h, bands)
+    if (x < p.width && j < frameRows(p)) renderPixel(x, imageRowOf(p, j), p, accel, prims, film);
 }
 
 template <class Accel>

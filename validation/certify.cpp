@@ -183,12 +183,12 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     const ValidationPolicy& pol = c.policy();
     // This process's rows (RowShare), and the merge of an array filled for them only.
     const RowShare* share = options.share;
-    const uint64_t lo = share ? share->begin : 0, hi = share ? share->end : n;
-    if (lo > hi || hi > n)
-        throw std::invalid_argument("certifyRays: shared rows " + std::to_string(lo) + ".." +
-                                    std::to_string(hi) + " outside the " + std::to_string(n) +
-                                    " rays");
-    auto mine = [lo, hi](uint64_t row) { return row >= lo && row < hi; };
+    if (share && (share->block == 0 || share->index >= share->count))
+        throw std::invalid_argument("certifyRays: a share of blocks of " +
+                                    std::to_string(share->block) + " rows, process " +
+                                    std::to_string(share->index) + " of " +
+                                    std::to_string(share->count));
+    auto mine = [share](uint64_t row) { return !share || share->owns(row); };
     auto combine = [share](auto& v) {
         using T = typename std::decay_t<decltype(v)>::value_type;
         static_assert(std::is_trivially_copyable_v<T>);
@@ -204,8 +204,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     std::vector<uint8_t> cls(n, 0);
     std::vector<uint32_t> why(n, 0);
     std::vector<float> rel(n, 0.0f);
-    parallelFor(hi - lo, [&](size_t j) {
-        const uint64_t i = lo + j;
+    parallelFor(n, [&](size_t i) {
+        if (!mine(i)) return;
         const Ray ray = rays.ray(i);
         const Hit r = ref.at(i);
         const Hit o = judged(c, ours, i, ray, r);
@@ -542,13 +542,17 @@ CertifyReport certifyTracer(const HitClassifier& classifier, const RaySet& rays,
     HitArrays ref;
     ref.t.resize(rays.count());  // zeros: a RowShare merges the rows of every process
     ref.prim.resize(rays.count());
-    const uint64_t lo = options.share ? options.share->begin : 0;
-    const uint64_t hi = options.share ? options.share->end : rays.count();
-    if (lo > hi || hi > rays.count())
-        throw std::invalid_argument("certifyTracer: shared rows outside the rays");
     EmbreeTracer embree(scene);  // robust mode: the reference of docs/VALIDATION.md
-    traceRaysCpu(embree.accel(), RayBatchView{rays.rays.data() + 8 * lo, ref.t.data() + lo,
-                                              ref.prim.data() + lo, hi - lo});
+    const uint64_t n = rays.count();
+    const RowShare* share = options.share;
+    // This process's blocks (all rows without a share), each traced in place.
+    const uint64_t block = share ? std::max<uint64_t>(share->block, 1) : std::max<uint64_t>(n, 1);
+    const uint64_t step = share ? block * share->count : block;
+    for (uint64_t b = share ? block * share->index : 0; b < n; b += step) {
+        const uint64_t m = std::min(block, n - b);
+        traceRaysCpu(embree.accel(), RayBatchView{rays.rays.data() + 8 * b, ref.t.data() + b,
+                                                  ref.prim.data() + b, m});
+    }
     if (options.share) {
         options.share->combine(ref.t.data(), ref.t.size() * sizeof(float));
         options.share->combine(ref.prim.data(), ref.prim.size() * sizeof(int32_t));

@@ -28,16 +28,19 @@ namespace oct {
 // A query's kind: the closest hit, or any hit on the segment (an occlusion query).
 enum class QueryKind : uint8_t { Closest = 0, AnyHit = 1 };
 
-// How one certification's rows are shared among processes (MPI ranks, dist/ranks.h): this one
-// judges rows [begin, end) (the reference's answers, the first comparison, the rechecks and the
-// leak rechecks of its rows), and `combine` merges an array of the run in place from every
-// process, each byte written by the process that owns its row and zero on the others. Counts,
-// findings and per-row verdicts then follow from the merged arrays on every process alike, in
-// row order, so they equal one process's; the recheck caps count in row order too. Every
-// process calls certifyRays with the same rows and answers (combine is collective).
+// How one certification's rows are shared among processes (MPI ranks, dist/ranks.h): rows are
+// dealt in blocks of `block`, block b to process b mod `count`; this one (`index`) judges its
+// rows (the reference's answers, the first comparison, the rechecks and the leak rechecks), and
+// `combine` merges an array of the run in place from every process, each byte written by the
+// process that owns its row and zero on the others. Counts, findings and per-row verdicts then
+// follow from the merged arrays on every process alike, in row order, so they equal one
+// process's; the recheck caps count in row order too. Every process calls certifyRays with the
+// same rows and answers (combine is collective).
 struct RowShare {
-    uint64_t begin = 0, end = 0;
+    uint64_t block = 1;
+    uint32_t index = 0, count = 1;
     std::function<void(void* data, uint64_t bytes)> combine;
+    bool owns(uint64_t row) const { return (row / block) % count == index; }
 };
 
 struct CertifyOptions {

@@ -73,16 +73,19 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
 }  // namespace
 
 uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate) {
-    return readRayFileRowsInto(
+    float* rays = nullptr;
+    const uint64_t rows = readRayFileRowsInto(
         path,
-        [](uint64_t rows) {
-            return RowSpan{0, rows};
+        [](uint64_t n) {
+            return std::vector<RowSpan>{{0, n}};
         },
-        allocate);
+        [&](uint64_t n) { return rays = allocate(n); });
+    checkRayRows(rays, rows, "'" + path + "'");
+    return rows;
 }
 
 uint64_t readRayFileRowsInto(const std::string& path,
-                             const std::function<RowSpan(uint64_t rows)>& rowsOf,
+                             const std::function<std::vector<RowSpan>(uint64_t rows)>& rowsOf,
                              const std::function<float*(uint64_t)>& allocate) {
     InputFile in(path, "the ray file", "save the rays with numpy.save and give that file");
     const uint64_t fileSize = in.size();
@@ -102,25 +105,40 @@ uint64_t readRayFileRowsInto(const std::string& path,
                       " data bytes but the file has " + std::to_string(available) +
                       " (truncated or wrong header)");
 
-    const RowSpan span = rowsOf(rows);
-    if (span.begin > span.end || span.end > rows)
-        throw std::invalid_argument("readRayFileRowsInto: rows " + std::to_string(span.begin) +
-                                    ".." + std::to_string(span.end) + " of " +
-                                    std::to_string(rows));
-    const uint64_t mine = span.end - span.begin;
-    float* rays = allocate(mine);  // the final buffer: read into directly, one pass
-    if (span.begin > 0) in.seekTo(h.dataStart + span.begin * 32);
-    if (in.read(rays, mine * 32) != mine * 32 || (span.end == rows && !in.atEnd()))
-        bad(path, "the file changed while it was read");
-    checkRayRows(rays, mine, "'" + path + "'", span.begin);
+    const std::vector<RowSpan> spans = rowsOf(rows);
+    uint64_t mine = 0, last = 0;
+    for (const RowSpan& sp : spans) {
+        if (sp.begin < last || sp.begin > sp.end || sp.end > rows)
+            throw std::invalid_argument("readRayFileRowsInto: rows " + std::to_string(sp.begin) +
+                                        ".." + std::to_string(sp.end) + " of " +
+                                        std::to_string(rows) + " (spans in row order)");
+        last = sp.end;
+        mine += sp.end - sp.begin;
+    }
+    float* rays = allocate(mine);   // the final buffer: read into directly, one pass
+    uint64_t at = 0, position = 0;  // rows so far; the file's row the next read starts at
+    for (const RowSpan& sp : spans) {
+        const uint64_t count = sp.end - sp.begin;
+        if (count == 0) continue;
+        if (sp.begin != position) in.seekTo(h.dataStart + sp.begin * 32);
+        if (in.read(rays + 8 * at, count * 32) != count * 32)
+            bad(path, "the file changed while it was read");
+        at += count;
+        position = sp.end;
+    }
+    if (position == rows && !in.atEnd()) bad(path, "the file changed while it was read");
     return rows;
 }
 
-void checkRayRows(const float* rays, uint64_t rows, const std::string& what, uint64_t firstRow) {
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what) {
     const uint64_t first = firstBadRow(rays, rows);
-    if (first < rows)
-        throw IoError(what + " row " + std::to_string(firstRow + first) + ": " +
-                      rayRowProblem(&rays[8 * first]));
+    if (first < rows) throw IoError(badRayRowMessage(what, first, &rays[8 * first]));
+}
+
+uint64_t firstBadRayRow(const float* rays, uint64_t rows) { return firstBadRow(rays, rows); }
+
+std::string badRayRowMessage(const std::string& what, uint64_t row, const float* r) {
+    return what + " row " + std::to_string(row) + ": " + rayRowProblem(r);
 }
 
 std::vector<float> readRayFile(const std::string& path) {

@@ -30,15 +30,15 @@ std::vector<float> readRayFile(const std::string& path);
 uint64_t readRayFileInto(const std::string& path, const std::function<float*(uint64_t)>& allocate);
 
 // One MPI rank's rows of the file (dist/): rowsOf(N), given the row count N the header declares,
-// names the rows [begin, end) to read, and allocate(end - begin) the room for them. The header
-// and the data size are checked as readRayFileInto checks them, the rows read with one seek and
-// checked by the same rule, a bad one named by its row in the file ("row I"): so the lowest
-// rank that fails names the row a whole read names. No rank holds all rays. Returns N.
+// names the rows to read as spans in row order, and allocate(their total) the room, which they
+// fill span after span (a seek each): no rank holds all rays. The header and the data size are
+// checked as readRayFileInto checks them; the rows are not: the ranks first agree on the lowest
+// bad row (firstBadRayRow), so the run names the row a whole read names. Returns N.
 struct RowSpan {
     uint64_t begin = 0, end = 0;
 };
 uint64_t readRayFileRowsInto(const std::string& path,
-                             const std::function<RowSpan(uint64_t rows)>& rowsOf,
+                             const std::function<std::vector<RowSpan>(uint64_t rows)>& rowsOf,
                              const std::function<float*(uint64_t)>& allocate);
 
 // Why row r (8 floats) cannot be traced, or "" when it can. The rule (the numeric range of
@@ -49,7 +49,10 @@ uint64_t readRayFileRowsInto(const std::string& path,
 std::string rayRowProblem(const float* r);
 // Every row of rays (rows x 8 floats) by that rule, as the reader checks a file's: throws IoError
 // "WHAT row I: why" for the first that breaks it (`what` names the rays: the file in quotes).
-// `firstRow`: the file's index of rays' first row, for the message.
-void checkRayRows(const float* rays, uint64_t rows, const std::string& what, uint64_t firstRow = 0);
+void checkRayRows(const float* rays, uint64_t rows, const std::string& what);
+// The lowest row of rays (rows x 8 floats) that breaks the rule, or `rows` when none does.
+uint64_t firstBadRayRow(const float* rays, uint64_t rows);
+// What checkRayRows throws for row r (8 floats), the file's row `row`.
+std::string badRayRowMessage(const std::string& what, uint64_t row, const float* r);
 
 }  // namespace oct

@@ -32,15 +32,28 @@ struct FrameParams {
     int height;
     Camera camera;
     ShadingParams shading;
-    // A band of the image: rows [bandBegin, bandBegin + bandRows) are rendered, into a Film of
-    // bandRows rows (MPI ranks split a frame so, dist/). 0 rows: the whole image. A pixel's rays
-    // depend on (x, y, width, height) only, so a band's pixels equal the whole frame's.
+    // A band of the image, rendered into a Film of bandRows rows: blocks of bandBlock rows, the
+    // first at row bandBegin, one every bandStride rows (an MPI rank's share of a frame, dealt
+    // round robin: dist/ranks.h). 0 rows: the whole image. A pixel's rays depend on (x, y,
+    // width, height) only, so a band's pixels equal the whole frame's.
     int bandBegin = 0;
     int bandRows = 0;
+    int bandBlock = 1;
+    int bandStride = 1;
 };
 
 // The rows a frame renders (its band's, or the image's).
 OCT_HD inline int frameRows(const FrameParams& p) { return p.bandRows > 0 ? p.bandRows : p.height; }
+// The image row of the Film's row j, and the Film's row of image row y (of the band).
+OCT_HD inline int imageRowOf(const FrameParams& p, int j) {
+    if (p.bandRows <= 0) return j;
+    return p.bandBegin + (j / p.bandBlock) * p.bandStride + j % p.bandBlock;
+}
+OCT_HD inline int filmRowOf(const FrameParams& p, int y) {
+    if (p.bandRows <= 0) return y;
+    const int d = y - p.bandBegin;
+    return (d / p.bandStride) * p.bandBlock + d % p.bandStride;
+}
 
 OCT_HD inline Ray primaryRay(const Camera& c, int x, int y, int width, int height) {
     // Pixel centres; row 0 at the top of the image.

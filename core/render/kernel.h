@@ -116,7 +116,7 @@ OCT_HD inline PixelSample tracePixel(int x, int y, const FrameParams& p, const A
 template <class Accel>
 OCT_HD inline void renderPixel(int x, int y, const FrameParams& p, const Accel& accel,
                                const PrimitivesView& prims, FilmView film) {
-    int idx = (y - p.bandBegin) * film.width + x;  // the band's row (camera.h)
+    int idx = filmRowOf(p, y) * film.width + x;  // the band's row (camera.h)
     NoObserver none;
     const PixelSample s = tracePixel(x, y, p, accel, prims, none, none);
     film.rgb[3 * idx + 0] = toByte(s.colour.x);

@@ -196,7 +196,7 @@ TEST_F(Mpi, CertifyJudgesAFaultyTracerAsOneProcessDoes) {
     }
     writeNpy(p("B.t.npy"), "<f4", {n}, tv.data(), 4);
     writeNpy(p("B.prim.npy"), "<i4", {n}, pv.data(), 4);
-    for (const std::string& cap : {"", " --max-rechecks 25"}) {
+    for (const std::string cap : {"", " --max-rechecks 25"}) {
         SCOPED_TRACE(cap);
         auto certify = [&](const std::string& tag) {
             return "certify " + quote(kTeapot) + " --rays " + q("R.npy") + " --hits " + q("B") +
@@ -237,7 +237,7 @@ TEST_F(Mpi, CertifyRechecksLeakCandidatesAsOneProcessDoes) {
     }
     writeNpy(p("B.t.npy"), "<f4", {n}, tv.data(), 4);
     writeNpy(p("B.prim.npy"), "<i4", {n}, pv.data(), 4);
-    for (const std::string& cap : {"", " --max-rechecks 40"}) {
+    for (const std::string cap : {"", " --max-rechecks 40"}) {
         SCOPED_TRACE(cap);
         auto certify = [&](const std::string& tag) {
             return "certify " + quote(scene) + " --rays " + q("S.npy") + " --hits " + q("B") +
@@ -280,25 +280,36 @@ TEST_F(Mpi, ValidateReportsWhatOneProcessReports) {
         << r.err;
 }
 
-// Bad input only the last rank reads (its slice of the ray file): every rank stops, the run
-// exits 2 with one line naming that rank and the row a whole read names, and leaves nothing.
-TEST_F(Mpi, ARankThatReadsABadRowFailsTheRunInOneLine) {
+// Bad input only some ranks read (their blocks of the ray file): every rank stops, the run exits
+// 2 with one line naming the rank of the lowest bad row, the row a whole read names, and leaves
+// nothing. A lower bad row on a higher rank wins over rank 0's.
+TEST_F(Mpi, TheRankOfTheLowestBadRowFailsTheRunInOneLine) {
     makeRays(kTeapot, "R.npy", "--count 3000 --size 16x16");
-    NpyArray rays = readNpy(p("R.npy"));
-    const uint64_t n = rays.shape[0], bad = n - 5;
-    float tmin = -1.0f;
-    std::memcpy(rays.data.data() + (bad * 8 + 6) * 4, &tmin, 4);
-    writeNpy(p("B.npy"), "<f4", rays.shape, rays.data.data(), 4);
-    const std::string trace =
-        "trace " + quote(kTeapot) + " --backend cpu --rays " + q("B.npy") + " --out " + q("T");
-    const RunResult single = one(trace);
-    ASSERT_EQ(single.status, 2) << show(single);
-    const RunResult r = ranks(3, trace);
-    EXPECT_TRUE(r.status == 2 && !r.timedOut) << show(r);
-    // "octrace: error: MSG" from one process is "octrace: rank 2 of 3: error: MSG" here.
-    EXPECT_EQ(r.err, "octrace: rank 2 of 3: " + single.err.substr(std::strlen("octrace: ")))
-        << r.err;
-    EXPECT_EQ(filesBut({"R.npy", "R.json", "B.npy"}), std::vector<std::string>{});
+    const NpyArray rays = readNpy(p("R.npy"));
+    const uint64_t n = rays.shape[0];
+    const RowDeal deal = dealRows(n, 3);
+    ASSERT_GT(n, 4 * deal.block);
+    for (const std::vector<uint64_t>& bad :
+         {std::vector<uint64_t>{n - 5}, {3 * deal.block + 2, deal.block + 7}}) {
+        const uint64_t lowest = *std::min_element(bad.begin(), bad.end());
+        SCOPED_TRACE("lowest bad row " + std::to_string(lowest));
+        NpyArray b = rays;
+        const float tmin = -1.0f;
+        for (uint64_t row : bad) std::memcpy(b.data.data() + (row * 8 + 6) * 4, &tmin, 4);
+        writeNpy(p("B.npy"), "<f4", b.shape, b.data.data(), 4);
+        const std::string trace =
+            "trace " + quote(kTeapot) + " --backend cpu --rays " + q("B.npy") + " --out " + q("T");
+        const RunResult single = one(trace);
+        ASSERT_EQ(single.status, 2) << show(single);
+        ASSERT_NE(single.err.find("row " + std::to_string(lowest) + ":"), std::string::npos);
+        const RunResult r = ranks(3, trace);
+        EXPECT_TRUE(r.status == 2 && !r.timedOut) << show(r);
+        // "octrace: error: MSG" from one process is "octrace: rank R of 3: error: MSG" here.
+        EXPECT_EQ(r.err, "octrace: rank " + std::to_string(deal.ownerOf(lowest)) + " of 3: " +
+                             single.err.substr(std::strlen("octrace: ")))
+            << r.err;
+        EXPECT_EQ(filesBut({"R.npy", "R.json", "B.npy"}), std::vector<std::string>{});
+    }
 }
 
 // A rank that dies (SIGKILL, as the OOM killer sends) before it traces: mpirun ends the run, and
@@ -318,8 +329,9 @@ TEST_F(Mpi, AKilledRankFailsTheRunAndLeavesNoOutput) {
                    dir_->path() / "capture", o);
     EXPECT_FALSE(r.timedOut) << show(r);
     EXPECT_NE(r.status, 0) << show(r);
-    if (r.err.find("exited on signal") != std::string::npos)
+    if (r.err.find("exited on signal") != std::string::npos) {
         EXPECT_NE(r.err.find("rank 1 "), std::string::npos) << r.err;
+    }
     EXPECT_EQ(filesBut({"R.npy", "R.json"}), std::vector<std::string>{});
 }
 

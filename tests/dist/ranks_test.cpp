@@ -13,29 +13,49 @@
 namespace oct {
 namespace {
 
-TEST(RowsOfRank, CoverEveryRowOnceInRankOrderWithinOneOfEachOther) {
-    for (uint64_t n : {0ull, 1ull, 2ull, 7ull, 512ull, 1000003ull})
+TEST(RowDeal, EveryRowHasOneOwnerAndEachRanksBlocksAreItsRowsInOrder) {
+    for (uint64_t n : {0ull, 1ull, 2ull, 7ull, 512ull, 3001ull, 1000003ull, 40000000ull})
         for (int ranks : {1, 2, 3, 7, 64}) {
-            uint64_t next = 0, smallest = UINT64_MAX, largest = 0;
+            const RowDeal d = dealRows(n, ranks);
+            std::vector<int> owner(std::min<uint64_t>(n, 2000000), -1);
+            uint64_t total = 0, smallest = UINT64_MAX, largest = 0;
             for (int r = 0; r < ranks; ++r) {
-                const RowRange rows = rowsOfRank(n, r, ranks);
-                EXPECT_EQ(rows.begin, next) << n << " rows, rank " << r << " of " << ranks;
-                next = rows.end;
-                smallest = std::min(smallest, rows.count());
-                largest = std::max(largest, rows.count());
+                uint64_t last = 0;
+                for (const RowRange& b : d.blocksOf(r)) {
+                    EXPECT_GE(b.begin, last);
+                    EXPECT_LT(b.begin, b.end);
+                    EXPECT_LE(b.count(), d.block);
+                    last = b.end;
+                    for (uint64_t i = b.begin; i < b.end && i < owner.size(); ++i) {
+                        EXPECT_EQ(owner[i], -1) << "row " << i << " dealt twice";
+                        owner[i] = r;
+                        EXPECT_EQ(d.ownerOf(i), r);
+                    }
+                }
+                const uint64_t c = d.countOf(r);
+                total += c;
+                smallest = std::min(smallest, c);
+                largest = std::max(largest, c);
             }
-            EXPECT_EQ(next, n);
-            EXPECT_LE(largest - smallest, 1u) << n << " rows over " << ranks;
+            EXPECT_EQ(total, n) << n << " rows over " << ranks;
+            for (size_t i = 0; i < owner.size(); ++i) ASSERT_GE(owner[i], 0) << "row " << i;
+            // Round robin: the ranks' counts differ by at most a block.
+            EXPECT_LE(largest - smallest, d.block) << n << " rows over " << ranks;
         }
 }
 
-TEST(RowsOfRank, TheFirstRanksTakeTheRemainder) {
-    EXPECT_EQ(rowsOfRank(10, 0, 3), (RowRange{0, 4}));
-    EXPECT_EQ(rowsOfRank(10, 1, 3), (RowRange{4, 7}));
-    EXPECT_EQ(rowsOfRank(10, 2, 3), (RowRange{7, 10}));
-    EXPECT_EQ(rowsOfRank(2, 2, 3), (RowRange{2, 2}));  // more ranks than rows: an empty share
-    EXPECT_THROW(rowsOfRank(10, 3, 3), std::invalid_argument);
-    EXPECT_THROW(rowsOfRank(10, -1, 3), std::invalid_argument);
+TEST(RowDeal, BlocksAreASixteenthOfARanksShareUpTo65536Rows) {
+    EXPECT_EQ(dealRows(3001, 3).block, 63u);  // ceil(3001 / 48)
+    EXPECT_EQ(dealRows(10, 3).block, 1u);
+    EXPECT_EQ(dealRows(0, 3).block, 1u);
+    EXPECT_EQ(dealRows(4000000, 2).block, 65536u);
+    EXPECT_EQ(dealRows(4000000, 1).block, 4000000u);  // one rank: one block
+    const RowDeal d = dealRows(10, 3);
+    EXPECT_EQ(d.blocksOf(0), (std::vector<RowRange>{{0, 1}, {3, 4}, {6, 7}, {9, 10}}));
+    EXPECT_EQ(d.blocksOf(2), (std::vector<RowRange>{{2, 3}, {5, 6}, {8, 9}}));
+    EXPECT_EQ(dealRows(2, 3).blocksOf(2), std::vector<RowRange>{});  // more ranks than rows
+    EXPECT_THROW(d.blocksOf(3), std::invalid_argument);
+    EXPECT_THROW(dealRows(10, 0), std::invalid_argument);
 }
 
 // Sets the launchers' variables for one test and clears them after.
@@ -116,7 +136,7 @@ TEST(OneRank, CollectiveCallsKeepTheDataAndFailReturnsTheStatus) {
     ASSERT_EQ(w.size(), 1);
     EXPECT_TRUE(w.root());
     EXPECT_FALSE(w.distributed());
-    EXPECT_EQ(w.rowsOf(9), (RowRange{0, 9}));
+    EXPECT_EQ(w.blocksOf(9), (std::vector<RowRange>{RowRange{0, 9}}));
     std::vector<int> mine = {1, 2, 3}, all(3, 0);
     w.gatherRows(mine.data(), all.data(), 3, sizeof(int));
     EXPECT_EQ(all, mine);
@@ -125,6 +145,7 @@ TEST(OneRank, CollectiveCallsKeepTheDataAndFailReturnsTheStatus) {
     EXPECT_EQ(bytes, (std::vector<uint8_t>{0x0f, 0xf0}));
     EXPECT_EQ(w.maxOver(2.5), 2.5);
     EXPECT_EQ(w.sumOver(7), 7u);
+    EXPECT_EQ(w.minOver(7), 7u);
     w.checkpoint();
     testing::internal::CaptureStderr();
     EXPECT_EQ(w.fail("octrace: error: x", 2), 2);
