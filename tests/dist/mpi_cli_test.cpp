@@ -305,8 +305,8 @@ TEST_F(Mpi, TheRankOfTheLowestBadRowFailsTheRunInOneLine) {
         const RunResult r = ranks(3, trace);
         EXPECT_TRUE(r.status == 2 && !r.timedOut) << show(r);
         // "octrace: error: MSG" from one process is "octrace: rank R of 3: error: MSG" here.
-        EXPECT_EQ(r.err, "octrace: rank " + std::to_string(deal.ownerOf(lowest)) + " of 3: " +
-                             single.err.substr(std::strlen("octrace: ")))
+        EXPECT_EQ(r.err, "octrace: rank " + std::to_string(deal.ownerOf(lowest)) +
+                             " of 3: " + single.err.substr(std::strlen("octrace: ")))
             << r.err;
         EXPECT_EQ(filesBut({"R.npy", "R.json", "B.npy"}), std::vector<std::string>{});
     }
