@@ -325,6 +325,22 @@ enum class Ending {
     Learned,  // another rank's error, already agreed on (RankFailed)
 };
 
+// Across MPI ranks only the commands that split their rows run (docs/DISTRIBUTED.md); any other
+// would run whole on every rank, each writing the same outputs. Throws std::runtime_error naming
+// the command.
+void checkSplitCommand(int argc, char** argv) {
+    static const char* const kSplit[] = {"trace", "certify", "render", "validate"};
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word.empty() || word[0] == '-') continue;  // --help and the like: as usual
+        for (const char* c : kSplit)
+            if (word == c) return;
+        throw std::runtime_error("octrace " + word +
+                                 " runs in one process; across MPI ranks run trace, certify, "
+                                 "render or validate (docs/DISTRIBUTED.md)");
+    }
+}
+
 // One run of the command line on this rank: its exit status, and the line it ends with on
 // standard error ("" for none).
 int runCommand(int argc, char** argv, std::string& line, Ending& ending) {
@@ -336,6 +352,7 @@ int runCommand(int argc, char** argv, std::string& line, Ending& ending) {
     ending = Ending::Failed;
     // Every exit status is chosen here (cli.h, kExitSuccess .. kExitIncomplete).
     try {
+        if (Ranks::world().distributed()) checkSplitCommand(argc, argv);
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         ending = Ending::Done;

@@ -353,6 +353,18 @@ TEST_F(Mpi, RankZerosFailedLastWriteFailsTheRunOnEveryRank) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
+// A command that does not split its rows would run whole on every rank, each writing the same
+// outputs: refused before any work, in one line.
+TEST_F(Mpi, CommandsThatDoNotSplitAreRefused) {
+    const RunResult r =
+        ranks(2, "rays " + quote(kTeapot) + " --count 100 --size 8x8 --out " + q("R.npy"));
+    EXPECT_EQ(r.status, 2) << show(r);
+    EXPECT_EQ(r.err,
+              "octrace: rank 0 of 2: error: octrace rays runs in one process; across MPI ranks "
+              "run trace, certify, render or validate (docs/DISTRIBUTED.md)\n");
+    EXPECT_FALSE(fs::exists(p("R.npy")));
+}
+
 // An output rank 0 refuses (its folder is missing) stops every rank before the work.
 TEST_F(Mpi, AnOutputRankZeroRefusesStopsEveryRank) {
     makeRays(kTeapot, "R.npy", "--count 500 --size 8x8");
