@@ -6,6 +6,8 @@
 // same prefix is refused instead of mixing its pair with this one's.
 // Across MPI ranks (dist/ranks.h) each rank reads and traces its own rows of the file and rank 0
 // gathers the hits and writes the same three files, byte for byte, as one process.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -121,6 +123,10 @@ void runTrace(const TraceOptions& o) {
     ranks.gatherRows(tTraced, t, n, sizeof(float));
     ranks.gatherRows(primTraced, prim, n, sizeof(int32_t));
     const double gatherSeconds = since(t0);
+    // The largest rank's peak memory: no rank holds all rays (rank 0 holds every answer).
+    struct rusage use {};
+    getrusage(RUSAGE_SELF, &use);
+    const double peakMiB = ranks.maxOver(double(use.ru_maxrss) / 1024.0);  // KiB on Linux
     const double fastest = -ranks.maxOver(-seconds);  // the balance of the deal (RowDeal)
     seconds = ranks.maxOver(seconds);                 // the slowest rank's
     const double outside[] = {ranks.maxOver(readSeconds), ranks.maxOver(loadSeconds),
@@ -149,8 +155,9 @@ void runTrace(const TraceOptions& o) {
     if (ranks.distributed())
         std::printf(
             "ranks   %d, rows split by rank (the phases above are the slowest rank's), "
-            "gather %.3f s; the fastest rank traced in %.3f s\n",
-            ranks.size(), gatherSeconds, fastest);
+            "gather %.3f s; the fastest rank traced in %.3f s; the largest rank's peak memory "
+            "%.0f MiB\n",
+            ranks.size(), gatherSeconds, fastest, peakMiB);
     std::printf("wrote   %s %s %s\n", tOut.c_str(), primOut.c_str(), runOut.c_str());
 }
 
