@@ -235,8 +235,25 @@ const BackendDesc& parseOneBackend(const std::string& text, const char* command,
         throw CLI::ValidationError("--backend", "'" + text + "': " + command +
                                                     " uses one backend (validate and bench "
                                                     "compare several)");
+    agreeOnBackends(b, text);
     note = notes.empty() ? "" : notes[0];
     return *b[0];
+}
+
+void agreeOnBackends(const std::vector<const BackendDesc*>& list, const std::string& text) {
+    Ranks& ranks = Ranks::world();
+    if (!ranks.distributed()) return;
+    std::string names;
+    for (const BackendDesc* b : list) names += (names.empty() ? "" : ",") + std::string(b->name);
+    const uint64_t id = std::hash<std::string>{}(names);
+    // Both calls on every rank, then every rank throws alike: rank 0 prints the line.
+    const uint64_t low = ranks.minOver(id), high = ~ranks.minOver(~id);  // maxOver is double's
+    if (low != high)
+        throw std::runtime_error("--backend " + text +
+                                 ": the ranks resolved it differently (rank 0: " +
+                                 (ranks.root() ? names : std::string("?")) +
+                                 "; a GPU on some nodes only?); name the backends every rank has, "
+                                 "e.g. --backend cpu");
 }
 
 void checkRayFileMemory(const char* command, const std::string& path, uint64_t rows,

@@ -123,6 +123,10 @@ std::vector<const BackendDesc*> parseBackendList(const std::string& text,
 // Exactly one layout or backend, for the commands that draw one (render, trace).
 const LayoutDesc& parseOneLayout(const std::string& text, const char* command);
 const BackendDesc& parseOneBackend(const std::string& text, const char* command, std::string& note);
+// Across MPI ranks (dist/ranks.h): every rank resolved `--backend text` to the same `list`
+// (`auto` resolves against each rank's own hardware), else throws std::runtime_error on every
+// rank alike. Collective; nothing in one process.
+void agreeOnBackends(const std::vector<const BackendDesc*>& list, const std::string& text);
 
 // Before a ray file's rows are read (the reader's allocate step): `rows` times `bytesPerRow`
 // (the rows and what the command keeps per row) against the machine's memory; throws

@@ -107,6 +107,8 @@ void runTrace(const TraceOptions& o) {
     float *t = nullptr, *tTraced = nullptr;
     int32_t *prim = nullptr, *primTraced = nullptr;
     if (ranks.root()) {
+        // Across ranks rank 0 holds every row's answer besides its own rows' (checked above).
+        if (ranks.distributed()) checkRayFileMemory("trace", o.rays, n, sizeof(float) + 4);
         tFile.emplace("<f4", std::vector<uint64_t>{n}, 4);
         primFile.emplace("<i4", std::vector<uint64_t>{n}, 4);
         t = tTraced = static_cast<float*>(tFile->data());

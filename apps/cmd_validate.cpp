@@ -187,6 +187,7 @@ void runValidate(const ValidateCliOptions& o) {
     const std::vector<const BackendDesc*> backendList = o.scene.path.empty()
                                                             ? regressionBackends(o.trace.backend)
                                                             : backendsUnderTest(o.trace.backend);
+    if (!o.scene.path.empty()) agreeOnBackends(backendList, o.trace.backend);
     setCpuThreadsFromOption(o.trace.threads);
     if (o.regression.empty() && (o.update || !o.regressionAdd.empty()))
         throw std::runtime_error(std::string(o.update ? "--update" : "--regression-add") +

@@ -194,7 +194,7 @@ uint64_t Ranks::minOver(uint64_t v) {
 
 RanksSession::RanksSession(int& argc, char**& argv) {
     const LauncherPlacement p = launcherPlacement();
-    if (!p.launched) return;
+    if (!p.launched || p.size == 1) return;  // one process (srun --pty bash, mpirun -np 1)
     int provided = 0;
     // One thread calls MPI (the main one); OpenMP's threads never do.
     if (MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS)
@@ -205,13 +205,25 @@ RanksSession::RanksSession(int& argc, char**& argv) {
     MPI_Comm_rank(MPI_COMM_WORLD, &w.rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &w.size_);
     w.localRank_ = p.localRank;
+    if (w.size_ != p.size) {  // a singleton under another MPI's launcher: K whole runs
+        const int size = w.size_;
+        w.rank_ = 0;
+        w.size_ = 1;
+        MPI_Finalize();
+        started_ = false;
+        throw std::runtime_error("launched as rank " + std::to_string(p.rank) + " of " +
+                                 std::to_string(p.size) + ", but MPI started " +
+                                 std::to_string(size) +
+                                 " (a launcher of another MPI than this octrace's?): run it "
+                                 "with the mpirun of the MPI it was built with");
+    }
     const char* keep = std::getenv("OCT_RANKS_OUTPUT");
     if (w.rank_ != 0 && !(keep && std::strcmp(keep, "all") == 0)) {
         std::fflush(stdout);
         std::fflush(stderr);
-        if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
-            throw std::runtime_error("rank " + std::to_string(w.rank_) +
-                                     ": cannot quiet its output (/dev/null)");
+        // Best effort: a rank that cannot open /dev/null prints as rank 0 does.
+        if (!std::freopen("/dev/null", "w", stdout)) std::clearerr(stdout);
+        if (!std::freopen("/dev/null", "w", stderr)) std::clearerr(stderr);
     }
 }
 

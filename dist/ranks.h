@@ -105,11 +105,12 @@ private:
     int agree(bool failed, std::string& line, int& status);
 };
 
-// The one place MPI starts and ends: MPI_Init when a launcher placed the process
-// (core/system/launcher.h) and the build has MPI, MPI_Finalize when it goes. On ranks other
-// than 0 standard output and error go to /dev/null (OCT_RANKS_OUTPUT=all keeps them, for
+// The one place MPI starts and ends: MPI_Init when a launcher placed the process as one of
+// several (core/system/launcher.h) and the build has MPI, MPI_Finalize when it goes. On ranks
+// other than 0 standard output and error go to /dev/null (OCT_RANKS_OUTPUT=all keeps them, for
 // debugging a cluster run). Throws std::runtime_error when the launcher placed the process but
-// MPI cannot start, or this build has no MPI (the run would be K copies of one process).
+// MPI cannot start, starts another number of processes than the launcher's, or this build has
+// no MPI (the run would be K copies of one process).
 class RanksSession {
 public:
     RanksSession(int& argc, char**& argv);

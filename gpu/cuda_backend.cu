@@ -142,7 +142,8 @@ int selectLocalDevice() {
         return -1;
     }
     const LauncherPlacement place = launcherPlacement();
-    const int device = place.launched ? place.localRank % count : 0;
+    if (!place.launched || place.size == 1) return 0;  // the default device, no context made
+    const int device = place.localRank % count;
     if (cudaSetDevice(device) != cudaSuccess) {
         cudaGetLastError();
         return -1;
@@ -178,7 +179,7 @@ bool cudaDevicePresent(std::string& why) {
     }
     why = std::string(prop.name) + ", compute capability " + std::to_string(prop.major) + "." +
           std::to_string(prop.minor) +
-          (place.launched
+          (place.launched && place.size > 1
                ? ", device " + std::to_string(device) + " of the node's " + std::to_string(count) +
                      " (local rank " + std::to_string(place.localRank) + ")"
                : "");

@@ -399,6 +399,56 @@ TEST_F(Mpi, CommandsThatDoNotSplitAreRefused) {
     EXPECT_FALSE(fs::exists(p("R.npy")));
 }
 
+// Ranks whose backends differ (as `auto` resolves on nodes with and without a GPU; here rank 1 is
+// given embree) would gather two tracers' rows into one output (and hang in validate's unequal
+// calls, which agree the same way): every rank refuses before the work, rank 0 in one line.
+TEST_F(Mpi, RanksThatResolveTheBackendDifferentlyAreRefused) {
+    makeRays(kTeapot, "R.npy", "--count 500 --size 8x8");
+    for (const std::string command : {"trace", "render"}) {
+        SCOPED_TRACE(command);
+        RunOptions o;
+        o.launcher = mpirun(2);
+        for (const char* w : {"/bin/sh", "-c",
+                              "b=cpu; [ \"$OMPI_COMM_WORLD_RANK\" = 1 ] && b=embree; "
+                              "exec \"$@\" --backend $b",
+                              "sh"})
+            o.launcher.push_back(w);
+        o.timeoutSeconds = 120;
+        std::vector<std::string> args = {command, kTeapot};
+        const std::vector<std::string> more =
+            command == "trace" ? std::vector<std::string>{"--rays", p("R.npy"), "--out", p("T")}
+                               : std::vector<std::string>{"--size", "16x16", "--out", p("T.png")};
+        args.insert(args.end(), more.begin(), more.end());
+        const RunResult r = runOctrace(args, dir_->path() / "capture", o);
+        EXPECT_FALSE(r.timedOut) << show(r);
+        EXPECT_EQ(r.status, 2) << show(r);
+        EXPECT_EQ(r.err.rfind("octrace: rank 0 of 2: error: --backend cpu: the ranks resolved it "
+                              "differently",
+                              0),
+                  0u)
+            << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_EQ(filesBut({"R.npy", "R.json"}), std::vector<std::string>{});
+    }
+}
+
+// A launcher's step of 2 tasks that MPI starts as 1 process (another MPI's launcher, here Slurm's
+// variables without srun) would be 2 whole runs writing the same outputs: refused in one line,
+// as a build without MPI refuses any launch of several ranks. Runs in every build.
+TEST(Launcher, AStepOfSeveralTasksThatIsNotSeveralRanksIsRefused) {
+    octtest::TempDir dir("launcher");
+    RunOptions o;
+    o.shellBefore = "export SLURM_PROCID=0 SLURM_STEP_NUM_TASKS=2 SLURM_LOCALID=0";
+    o.timeoutSeconds = 60;
+    const RunResult r = runOctrace({"info", kTeapot}, dir.path(), o);
+    EXPECT_TRUE(octtest::isOneLineError(r));
+    EXPECT_NE(r.err.find(builtWithMpi() ? "launched as rank 0 of 2, but MPI started 1"
+                                        : "launched as rank 0 of 2, but this octrace was built "
+                                          "without MPI"),
+              std::string::npos)
+        << r.err;
+}
+
 // An output rank 0 refuses (its folder is missing) stops every rank before the work.
 TEST_F(Mpi, AnOutputRankZeroRefusesStopsEveryRank) {
     makeRays(kTeapot, "R.npy", "--count 500 --size 8x8");
