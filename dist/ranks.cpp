@@ -44,6 +44,26 @@ uint64_t RowDeal::countOf(int rank) const {
     return c;
 }
 
+void packRows(const std::vector<RowRange>& blocks, const void* whole, void* packed,
+              size_t elemBytes) {
+    uint64_t at = 0;
+    for (const RowRange& b : blocks) {
+        std::memmove(static_cast<char*>(packed) + at * elemBytes,
+                     static_cast<const char*>(whole) + b.begin * elemBytes, b.count() * elemBytes);
+        at += b.count();
+    }
+}
+
+void unpackRows(const std::vector<RowRange>& blocks, const void* packed, void* whole,
+                size_t elemBytes) {
+    uint64_t at = 0;
+    for (const RowRange& b : blocks) {
+        std::memmove(static_cast<char*>(whole) + b.begin * elemBytes,
+                     static_cast<const char*>(packed) + at * elemBytes, b.count() * elemBytes);
+        at += b.count();
+    }
+}
+
 Ranks& Ranks::world() {
     static Ranks w;
     return w;
@@ -99,34 +119,36 @@ void Ranks::checkpoint() {
 
 namespace {
 
-// Sends or receives `bytes` at `at` in pieces of at most kPieceBytes (MPI counts are ints).
-void movePieces(char* at, uint64_t bytes, int peer, bool receive) {
+// Calls op(at, m) on consecutive pieces of at most kPieceBytes of the `bytes` at `at`: MPI counts
+// are ints.
+template <class Op>
+void inPieces(char* at, uint64_t bytes, Op op) {
     for (uint64_t left = bytes; left > 0;) {
         const int m = int(std::min(left, kPieceBytes));
-        if (receive)
-            MPI_Recv(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        else
-            MPI_Send(at, m, MPI_BYTE, peer, 0, MPI_COMM_WORLD);
+        op(at, m);
         at += m;
         left -= uint64_t(m);
     }
 }
 
-// Rank 0 receives every other rank's blocks in turn, into place; a rank sends its blocks from its
-// packed rows (`packed`) or from their places in a whole array (`packed` null, `whole`).
+// Rank 0 receives every other rank's blocks in turn, into their places in `whole`; a rank sends
+// its blocks from its packed rows.
 void gatherBlocks(int rank, int size, const RowDeal& d, const char* packed, char* whole,
                   size_t elemBytes) {
     if (rank == 0) {
         for (int r = 1; r < size; ++r)
             for (const RowRange& b : d.blocksOf(r))
-                movePieces(whole + b.begin * elemBytes, b.count() * elemBytes, r, true);
+                inPieces(whole + b.begin * elemBytes, b.count() * elemBytes, [r](char* at, int m) {
+                    MPI_Recv(at, m, MPI_BYTE, r, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                });
         return;
     }
-    uint64_t offset = 0;
+    // Block by block, as rank 0 receives them (a message's pieces must match its receive's).
+    uint64_t at = 0;
     for (const RowRange& b : d.blocksOf(rank)) {
-        const char* from = packed ? packed + offset * elemBytes : whole + b.begin * elemBytes;
-        movePieces(const_cast<char*>(from), b.count() * elemBytes, 0, false);
-        offset += b.count();
+        inPieces(const_cast<char*>(packed) + at * elemBytes, b.count() * elemBytes,
+                 [](char* p, int m) { MPI_Send(p, m, MPI_BYTE, 0, 0, MPI_COMM_WORLD); });
+        at += b.count();
     }
 }
 
@@ -135,43 +157,29 @@ void gatherBlocks(int rank, int size, const RowDeal& d, const char* packed, char
 void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
     checkpoint();
     const RowDeal d = deal(n);
-    if (root() && mine != all) {  // rank 0's own rows into place
-        uint64_t offset = 0;
-        for (const RowRange& b : d.blocksOf(0)) {
-            std::memmove(static_cast<char*>(all) + b.begin * elemBytes,
-                         static_cast<const char*>(mine) + offset * elemBytes,
-                         b.count() * elemBytes);
-            offset += b.count();
-        }
-    }
+    if (root() && mine != all) unpackRows(d.blocksOf(0), mine, all, elemBytes);
     if (size_ == 1) return;
     gatherBlocks(rank_, size_, d, static_cast<const char*>(mine), static_cast<char*>(all),
                  elemBytes);
 }
 
-void Ranks::allgatherRows(void* data, uint64_t n, size_t elemBytes) {
+void Ranks::allgatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
+    const RowDeal d = deal(n);
+    unpackRows(d.blocksOf(rank_), mine, all, elemBytes);  // this rank's in place, then all
     checkpoint();
     if (size_ == 1) return;
-    char* at = static_cast<char*>(data);
-    gatherBlocks(rank_, size_, deal(n), nullptr, at, elemBytes);
-    for (uint64_t left = n * elemBytes; left > 0;) {
-        const int m = int(std::min(left, kPieceBytes));
-        MPI_Bcast(at, m, MPI_BYTE, 0, MPI_COMM_WORLD);
-        at += m;
-        left -= uint64_t(m);
-    }
+    gatherBlocks(rank_, size_, d, static_cast<const char*>(mine), static_cast<char*>(all),
+                 elemBytes);
+    inPieces(static_cast<char*>(all), n * elemBytes,
+             [](char* at, int m) { MPI_Bcast(at, m, MPI_BYTE, 0, MPI_COMM_WORLD); });
 }
 
 void Ranks::combineOwned(void* data, uint64_t bytes) {
     checkpoint();
     if (size_ == 1) return;
-    char* at = static_cast<char*>(data);
-    for (uint64_t left = bytes; left > 0;) {
-        const int m = int(std::min(left, kPieceBytes));
+    inPieces(static_cast<char*>(data), bytes, [](char* at, int m) {
         MPI_Allreduce(MPI_IN_PLACE, at, m, MPI_BYTE, MPI_BOR, MPI_COMM_WORLD);
-        at += m;
-        left -= uint64_t(m);
-    }
+    });
 }
 
 double Ranks::maxOver(double v) {
@@ -238,7 +246,9 @@ void Ranks::checkpoint() {}
 void Ranks::gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
     if (mine != all) std::memmove(all, mine, n * elemBytes);  // one rank: its rows are all
 }
-void Ranks::allgatherRows(void*, uint64_t, size_t) {}
+void Ranks::allgatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes) {
+    if (mine != all) std::memmove(all, mine, n * elemBytes);  // one rank: its rows are all
+}
 void Ranks::combineOwned(void*, uint64_t) {}
 double Ranks::maxOver(double v) { return v; }
 uint64_t Ranks::sumOver(uint64_t v) { return v; }

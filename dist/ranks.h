@@ -41,6 +41,13 @@ struct RowDeal {
     uint64_t countOf(int rank) const;                // its rows
 };
 
+// A rank's rows of elemBytes bytes between their packed form (its blocks one after another) and
+// their places in a whole array.
+void packRows(const std::vector<RowRange>& blocks, const void* whole, void* packed,
+              size_t elemBytes);
+void unpackRows(const std::vector<RowRange>& blocks, const void* packed, void* whole,
+                size_t elemBytes);
+
 // The deal the ranks use for n rows: blocks of ceil(n / (16 ranks)) rows, at most 65,536 (at
 // least 16 blocks a rank, each block large enough to read and send at once), 1 at least; one
 // block of all rows for one rank.
@@ -81,8 +88,8 @@ public:
     // block); afterwards rank 0's `all` (n rows; ignored elsewhere, may be null) holds every
     // rank's, each in its place.
     void gatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes);
-    // `data` holds n rows, this rank's filled in place: afterwards every rank's holds all.
-    void allgatherRows(void* data, uint64_t n, size_t elemBytes);
+    // The same, with every rank's `all` (n rows) holding every rank's rows afterwards.
+    void allgatherRows(const void* mine, void* all, uint64_t n, size_t elemBytes);
     // Merges `bytes` bytes in place from every rank by bitwise or: each byte set by at most one
     // rank, zero on the others (the arrays certify's ranks fill row by row, validation/).
     void combineOwned(void* data, uint64_t bytes);

@@ -1,7 +1,5 @@
 #include "dist/split_work.h"
 
-#include <cstring>
-
 #include "dist/ranks.h"
 
 namespace oct {
@@ -13,15 +11,10 @@ template <class T>
 void gatherChannel(Ranks& ranks, const std::vector<T>& band, std::vector<T>& whole, int width,
                    int height, int perPixel, bool everywhere) {
     const size_t rowBytes = size_t(width) * size_t(perPixel) * sizeof(T);
-    if (!everywhere) return ranks.gatherRows(band.data(), whole.data(), uint64_t(height), rowBytes);
-    uint64_t j = 0;  // the band's rows into their places, then every rank's everywhere
-    for (const RowRange& b : ranks.blocksOf(uint64_t(height))) {
-        std::memcpy(reinterpret_cast<char*>(whole.data()) + b.begin * rowBytes,
-                    reinterpret_cast<const char*>(band.data()) + j * rowBytes,
-                    b.count() * rowBytes);
-        j += b.count();
-    }
-    ranks.allgatherRows(whole.data(), uint64_t(height), rowBytes);
+    if (everywhere)
+        ranks.allgatherRows(band.data(), whole.data(), uint64_t(height), rowBytes);
+    else
+        ranks.gatherRows(band.data(), whole.data(), uint64_t(height), rowBytes);
 }
 
 }  // namespace
@@ -63,24 +56,15 @@ void traceByRows(RayBatchView batch, const std::function<void(RayBatchView)>& tr
     std::vector<float> rays(m * 8), t(m);
     std::vector<int32_t> prim(m);
     std::vector<uint32_t> nodes(batch.nodes ? m : 0), tested(batch.primsTested ? m : 0);
-    uint64_t j = 0;
-    for (const RowRange& b : blocks) {
-        std::memcpy(rays.data() + 8 * j, batch.rays + 8 * b.begin, b.count() * 8 * sizeof(float));
-        j += b.count();
-    }
+    packRows(blocks, batch.rays, rays.data(), 8 * sizeof(float));
     RayBatchView mine{rays.data(), t.data(), prim.data(), m};
     if (batch.nodes) mine.nodes = nodes.data();
     if (batch.primsTested) mine.primsTested = tested.data();
     if (m > 0) trace(mine);
     auto place = [&](const auto* packed, auto* all) {
         if (!all) return;
-        uint64_t k = 0;
-        for (const RowRange& b : blocks) {
-            std::memcpy(all + b.begin, packed + k, b.count() * sizeof(*all));
-            k += b.count();
-        }
         if (everywhere)
-            ranks.allgatherRows(all, batch.count, sizeof(*all));
+            ranks.allgatherRows(packed, all, batch.count, sizeof(*all));
         else
             ranks.gatherRows(packed, all, batch.count, sizeof(*all));
     };
