@@ -27,6 +27,13 @@
 #include "core/octree/morton.h"
 #include "core/octree/traversal.h"
 
+// The host's lanes in SSE registers where the compiler targets x86-64 (SSE2 is its baseline);
+// every other target (CUDA's device pass, WebAssembly) runs the scalar form of the same lanes.
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__) && !defined(OCT_SCALAR_LANES)
+#include <immintrin.h>
+#define OCT_HOST_SSE 1
+#endif
+
 namespace oct {
 
 // Byte layout (8 bytes). Which form a record takes is known from its parent's leafMask (the
@@ -67,13 +74,19 @@ static_assert(sizeof(QuantBounds) == 8, "QuantBounds byte layout is documented a
 
 // The planes of QuantBounds within `cell`, computed the one way the converter checks them
 // against the geometry (compact_octree.cpp), fused multiply-add or not.
+// Written out per axis: a loop over Vec3's run-time index compiled to select chains on the
+// host (docs/PERFORMANCE.md, "Kernel choices").
+OCT_HD inline void dequantizeAxis(float lo, float hi, uint8_t qLo, uint8_t qHi, float& outLo,
+                                  float& outHi) {
+    const float step = (hi - lo) * (1.0f / 255.0f);
+    outLo = lo + float(qLo) * step;
+    outHi = hi - float(255 - qHi) * step;
+}
 OCT_HD inline Aabb dequantize(const QuantBounds& qb, const Aabb& cell) {
     Aabb b;
-    for (int a = 0; a < 3; ++a) {
-        const float step = (cell.hi[a] - cell.lo[a]) * (1.0f / 255.0f);
-        b.lo[a] = cell.lo[a] + float(qb.lo[a]) * step;
-        b.hi[a] = cell.hi[a] - float(255 - qb.hi[a]) * step;
-    }
+    dequantizeAxis(cell.lo.x, cell.hi.x, qb.lo[0], qb.hi[0], b.lo.x, b.hi.x);
+    dequantizeAxis(cell.lo.y, cell.hi.y, qb.lo[1], qb.hi[1], b.lo.y, b.hi.y);
+    dequantizeAxis(cell.lo.z, cell.hi.z, qb.lo[2], qb.hi[2], b.lo.z, b.hi.z);
     return b;
 }
 
@@ -136,13 +149,152 @@ OCT_HD inline void halfSlabs(float o, float inv, float lo, float mid, float hi, 
     farT[1] = maxf(tm, th) * kSlabFarScale;
 }
 
+#if defined(OCT_HOST_SSE)
+// The host's SSE form of the node step. Every lane computes the scalar form's operations on the
+// same values in the same order, so the same bits: maxf(a, b) is _mm_max_ps(b, a) and minf(a, b)
+// is _mm_min_ps(b, a), operand for operand (ties and signed zeros included). Lanes x, y, z, and
+// a fourth that no result reads (the bounds test makes it neutral).
+struct SseRay {
+    __m128 org, inv;
+    __m128 parallel;   // all ones where the direction component is zero (inv = +-inf), and lane 3
+    bool anyParallel;  // lanes 0-2 of parallel: most rays have none, and skip the selects below
+};
+
+inline SseRay makeSseRay(const RaySlabs& s) {
+    SseRay r;
+    r.org = _mm_setr_ps(s.org.x, s.org.y, s.org.z, 0.0f);
+    r.inv = _mm_setr_ps(s.inv.x, s.inv.y, s.inv.z, 0.0f);
+    const __m128 absInv = _mm_andnot_ps(_mm_set1_ps(-0.0f), r.inv);
+    const __m128 lane3 = _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1));
+    r.parallel = _mm_or_ps(_mm_cmpeq_ps(absInv, _mm_set1_ps(INFINITY)), lane3);
+    r.anyParallel = (_mm_movemask_ps(r.parallel) & 7) != 0;
+    return r;
+}
+
+// A box's corners as lanes x, y, z, 0. Built from the floats, not loaded as 16 bytes: the box
+// was just written float by float (childBox), and a wide load of narrower stores cannot be
+// forwarded from the store buffer (it waits for them to retire; that stall made a first form
+// 10 % slower in spite of fewer instructions).
+inline __m128 lowCorner(const Aabb& b) { return _mm_setr_ps(b.lo.x, b.lo.y, b.lo.z, 0.0f); }
+inline __m128 highCorner(const Aabb& b) { return _mm_setr_ps(b.hi.x, b.hi.y, b.hi.z, 0.0f); }
+
+inline __m128 select(__m128 mask, __m128 ifSet, __m128 ifClear) {
+    return _mm_or_ps(_mm_and_ps(mask, ifSet), _mm_andnot_ps(mask, ifClear));
+}
+
+// halfSlabs for the three axes at once: near and far of the lower half (0) and the upper (1).
+inline void halfSlabsSse(const SseRay& r, __m128 lo, __m128 mid, __m128 hi, __m128& near0,
+                         __m128& far0, __m128& near1, __m128& far1) {
+    const __m128 scale = _mm_set1_ps(kSlabFarScale);
+    const __m128 tl = _mm_mul_ps(_mm_sub_ps(lo, r.org), r.inv);
+    const __m128 tm = _mm_mul_ps(_mm_sub_ps(mid, r.org), r.inv);
+    const __m128 th = _mm_mul_ps(_mm_sub_ps(hi, r.org), r.inv);
+    near0 = _mm_min_ps(tm, tl);
+    far0 = _mm_mul_ps(_mm_max_ps(tm, tl), scale);
+    near1 = _mm_min_ps(th, tm);
+    far1 = _mm_mul_ps(_mm_max_ps(th, tm), scale);
+    if (!r.anyParallel) return;  // lane 3 is read by no caller of this function
+    // A parallel axis: the half holds the origin's coordinate for all t, or never.
+    const __m128 inf = _mm_set1_ps(INFINITY), minusInf = _mm_set1_ps(-INFINITY);
+    const __m128 inLo = _mm_and_ps(_mm_cmpge_ps(r.org, lo), _mm_cmple_ps(r.org, mid));
+    const __m128 inHi = _mm_and_ps(_mm_cmpge_ps(r.org, mid), _mm_cmple_ps(r.org, hi));
+    near0 = select(r.parallel, select(inLo, minusInf, inf), near0);
+    far0 = select(r.parallel, select(inLo, inf, minusInf), far0);
+    near1 = select(r.parallel, select(inHi, minusInf, inf), near1);
+    far1 = select(r.parallel, select(inHi, inf, minusInf), far1);
+}
+
+// childIntervals below, in SSE registers: the eight lanes in two halves, the hit mask by one
+// compare and movemask each (the scalar mask loop was 7 % of a trace's instructions).
+inline uint32_t childIntervalsSse(const SseRay& r, const Aabb& box, float tLo, float tHi,
+                                  float* enter, float* exit) {
+    const __m128 lo = lowCorner(box), hi = highCorner(box);
+    const __m128 mid = _mm_mul_ps(_mm_add_ps(lo, hi), _mm_set1_ps(0.5f));  // Aabb::center
+    __m128 n0, f0, n1, f1;
+    halfSlabsSse(r, lo, mid, hi, n0, f0, n1, f1);
+    // Octant i takes the upper half along x when bit 0 is set, y bit 1, z bit 2: lanes 0-3
+    // are octants 0-3 (x: 0 1 0 1, y: 0 0 1 1) in the lower half along z, lanes 4-7 the upper.
+    const __m128 nxy = _mm_unpacklo_ps(n0, n1), fxy = _mm_unpacklo_ps(f0, f1);  // x0 x1 y0 y1
+    const __m128 nx = _mm_movelh_ps(nxy, nxy), fx = _mm_movelh_ps(fxy, fxy);
+    const __m128 ny = _mm_shuffle_ps(nxy, nxy, _MM_SHUFFLE(3, 3, 2, 2));
+    const __m128 fy = _mm_shuffle_ps(fxy, fxy, _MM_SHUFFLE(3, 3, 2, 2));
+    const __m128 e = _mm_max_ps(ny, _mm_max_ps(nx, _mm_set1_ps(tLo)));
+    const __m128 f = _mm_min_ps(fy, _mm_min_ps(fx, _mm_set1_ps(tHi)));
+    const __m128 e0 = _mm_max_ps(_mm_shuffle_ps(n0, n0, _MM_SHUFFLE(2, 2, 2, 2)), e);
+    const __m128 e1 = _mm_max_ps(_mm_shuffle_ps(n1, n1, _MM_SHUFFLE(2, 2, 2, 2)), e);
+    const __m128 x0 = _mm_min_ps(_mm_shuffle_ps(f0, f0, _MM_SHUFFLE(2, 2, 2, 2)), f);
+    const __m128 x1 = _mm_min_ps(_mm_shuffle_ps(f1, f1, _MM_SHUFFLE(2, 2, 2, 2)), f);
+    _mm_storeu_ps(enter, e0);
+    _mm_storeu_ps(enter + 4, e1);
+    _mm_storeu_ps(exit, x0);
+    _mm_storeu_ps(exit + 4, x1);
+    return uint32_t(_mm_movemask_ps(_mm_cmple_ps(e0, x0))) |
+           uint32_t(_mm_movemask_ps(_mm_cmple_ps(e1, x1))) << 4;
+}
+
+// Whether the ray meets the dequantized bounds within [tmin, tmax]: intersectBox(r,
+// dequantize(qb, cell), tmin, tmax, ...)'s answer, the planes computed by the same operations
+// (dequantizeAxis), the slab interval's ends reduced across the lanes.
+inline bool boundsHitSse(const SseRay& r, const QuantBounds& qb, const Aabb& cell, float tmin,
+                         float tmax) {
+    const __m128 lo = lowCorner(cell), hi = highCorner(cell);
+    const __m128 step = _mm_mul_ps(_mm_sub_ps(hi, lo), _mm_set1_ps(1.0f / 255.0f));
+    // The 8 bytes lo[3] hi[3] zero[2] as 32-bit lanes: lo0 lo1 lo2 hi0, and hi0 hi1 hi2 0.
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i bytes =
+        _mm_unpacklo_epi8(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(&qb)), zero);
+    const __m128 qLo = _mm_cvtepi32_ps(_mm_unpacklo_epi16(bytes, zero));
+    const __m128 qHi = _mm_cvtepi32_ps(_mm_unpacklo_epi16(_mm_srli_si128(bytes, 6), zero));
+    const __m128 bLo = _mm_add_ps(lo, _mm_mul_ps(qLo, step));
+    const __m128 bHi = _mm_sub_ps(hi, _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(255.0f), qHi), step));
+    const __m128 ta = _mm_mul_ps(_mm_sub_ps(bLo, r.org), r.inv);
+    const __m128 tb = _mm_mul_ps(_mm_sub_ps(bHi, r.org), r.inv);
+    __m128 nearT = _mm_min_ps(tb, ta);
+    __m128 farT = _mm_mul_ps(_mm_max_ps(tb, ta), _mm_set1_ps(kSlabFarScale));
+    // Lane 3 (inv 0, a finite plane) gives t = 0 there; a parallel axis admits the ray for all t
+    // when the origin lies within its slab, else never. Both made neutral.
+    const __m128 neutral =
+        r.anyParallel ? r.parallel : _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1));
+    if (r.anyParallel) {
+        const __m128 inside = _mm_and_ps(_mm_cmpge_ps(r.org, bLo), _mm_cmple_ps(r.org, bHi));
+        if (_mm_movemask_ps(_mm_andnot_ps(inside, r.parallel)) & 7) return false;
+    }
+    nearT = select(neutral, _mm_set1_ps(-INFINITY), nearT);
+    farT = select(neutral, _mm_set1_ps(INFINITY), farT);
+    nearT = _mm_max_ps(nearT, _mm_shuffle_ps(nearT, nearT, _MM_SHUFFLE(2, 3, 0, 1)));
+    nearT = _mm_max_ps(nearT, _mm_shuffle_ps(nearT, nearT, _MM_SHUFFLE(1, 0, 3, 2)));
+    farT = _mm_min_ps(farT, _mm_shuffle_ps(farT, farT, _MM_SHUFFLE(2, 3, 0, 1)));
+    farT = _mm_min_ps(farT, _mm_shuffle_ps(farT, farT, _MM_SHUFFLE(1, 0, 3, 2)));
+    return maxf(tmin, _mm_cvtss_f32(nearT)) <= minf(tmax, _mm_cvtss_f32(farT));
+}
+#endif
+
+// The ray as the node step reads it: its slabs, and on the host its SSE lanes, made once a ray.
+struct LaneRay {
+    RaySlabs slabs;
+#if defined(OCT_HOST_SSE)
+    SseRay sse;
+#endif
+};
+OCT_HD inline LaneRay makeLaneRay(const RaySlabs& s) {
+#if defined(OCT_HOST_SSE)
+    return {s, makeSseRay(s)};
+#else
+    return {s};
+#endif
+}
+
 // The slab intervals of the eight children of `box` (the builder's halving, childBox, so the
 // same bits) clipped to [tLo, tHi]: enter[i], exit[i] for octant i, and the mask of the children
 // the ray meets (touching counts, as intersectBox). validate's box-test contract checks exactly
 // this function (validation/exact/box_contract.h).
-OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const RaySlabs& s, const Aabb& box,
+OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const LaneRay& lr, const Aabb& box,
                                                        float tLo, float tHi, float* enter,
                                                        float* exit) {
+#if defined(OCT_HOST_SSE)
+    return childIntervalsSse(lr.sse, box, tLo, tHi, enter, exit);
+#else
+    const RaySlabs& s = lr.slabs;
     const Vec3 mid = box.center();
     float nearX[2], farX[2], nearY[2], farY[2], nearZ[2], farZ[2];
     halfSlabs(s.org.x, s.inv.x, box.lo.x, mid.x, box.hi.x, nearX, farX);
@@ -167,6 +319,23 @@ OCT_HD OCT_LANES_INLINE inline uint32_t childIntervals(const RaySlabs& s, const 
     uint32_t hitMask = 0;
     for (int i = 0; i < 8; ++i) hitMask |= uint32_t(enter[i] <= exit[i]) << i;
     return hitMask;
+#endif
+}
+OCT_HD inline uint32_t childIntervals(const RaySlabs& s, const Aabb& box, float tLo, float tHi,
+                                      float* enter, float* exit) {
+    return childIntervals(makeLaneRay(s), box, tLo, tHi, enter, exit);
+}
+
+// Whether the ray meets the bounds `qb` of `cell` within [tmin, tmax] (intersectBox of the
+// dequantized box).
+OCT_HD inline bool boundsHit(const LaneRay& lr, const QuantBounds& qb, const Aabb& cell, float tmin,
+                             float tmax) {
+#if defined(OCT_HOST_SSE)
+    return boundsHitSse(lr.sse, qb, cell, tmin, tmax);
+#else
+    float t0, t1;
+    return intersectBox(lr.slabs, dequantize(qb, cell), tmin, tmax, t0, t1);
+#endif
 }
 
 // Set bits of an 8-bit mask. The host reads a 256-entry table (popcount is a library call on
@@ -223,6 +392,35 @@ OCT_HD inline Aabb compactCellBox(const Aabb& rootBox, uint64_t key, int depth) 
     return box;
 }
 
+// The box of the parent at each level of the walk below. CUDA keeps none and halves it again
+// from the root along the key when the walk goes back up (compactCellBox): 24 bytes a level
+// would be 504 bytes of local memory a thread, the GPU budget (docs/PERFORMANCE.md, "GPU
+// budget"). The host has the stack to spare and keeps them: the re-derivation was 3.4 % of a
+// trace's instructions (docs/PERFORMANCE.md, "Kernel choices"). The same bits either way: the
+// kept box is the one the builder's halving gave on the way down.
+struct CompactLevelBoxes {
+#if !defined(__CUDA_ARCH__)
+    Aabb box[kMaxOctreeDepth];
+#endif
+    OCT_HD void keep(int depth, const Aabb& b) {
+#if !defined(__CUDA_ARCH__)
+        box[depth] = b;
+#else
+        (void)depth;
+        (void)b;
+#endif
+    }
+    OCT_HD Aabb recall(const Aabb& rootBox, uint64_t key, int depth) const {
+#if !defined(__CUDA_ARCH__)
+        (void)rootBox;
+        (void)key;
+        return box[depth];
+#else
+        return compactCellBox(rootBox, key, depth);
+#endif
+    }
+};
+
 // Traversal with one 8-byte entry a level (after Laine & Karras 2010, ESVO, whose stack is one
 // parent a level): the internal node's first child and masks, and which hit children are left.
 // Boxes are not kept: the current level's parent box is held, a child's box is halved from it
@@ -240,6 +438,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                                   Obs& obs) {
     constexpr bool kSilent = std::is_same<Obs, NoObserver>::value;
     PreparedRay q = prepareRay(r);
+    const compact_detail::LaneRay lanes = compact_detail::makeLaneRay(q.slabs);
     Hit best = initialHit(r);
     CompactNode level[kMaxOctreeDepth];  // the internal node of each level, children left above
     int levels = 0;
@@ -265,6 +464,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
     int depth = 0;
     Aabb box = v.rootBox, levelBox = v.rootBox;
     int levelBoxDepth = -1;
+    CompactLevelBoxes kept;
     for (;;) {
         // Entered beyond the closest hit: nothing nearer below. Without an observer and with
         // bounds, the bounds test below decides it alone (the bounds lie within the cell, so a
@@ -272,8 +472,8 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         if ((!kSilent || v.bounds.count == 0) && tEnter > best.t) {
             obs.nodePopped(key, tEnter, false);
         } else if (v.bounds.count != 0 &&
-                   !intersectBox(q.slabs, dequantize(loadReadOnly(v.bounds.data + index), box),
-                                 r.tmin, best.t, t1, t1)) {
+                   !compact_detail::boundsHit(lanes, loadReadOnly(v.bounds.data + index), box,
+                                              r.tmin, best.t)) {
             // The geometry's bounds within the cell: a ray that crosses the cell but misses
             // them meets nothing stored below it.
             obs.childSkipped(key, SkipReason::OutsideBounds);
@@ -289,7 +489,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                 const uint32_t mask = n.childMask(), leafMask = n.leafMask();
                 float enter[8], exit[8];
                 uint32_t hitMask =
-                    compact_detail::childIntervals(q.slabs, box, r.tmin, best.t, enter, exit);
+                    compact_detail::childIntervals(lanes, box, r.tmin, best.t, enter, exit);
                 hitMask &= mask;
                 cost.nodesVisited += compact_detail::bitCount8(mask);
                 if (!kSilent) {
@@ -324,6 +524,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                     ++levels;
                     levelBox = box;
                     levelBoxDepth = depth;
+                    kept.keep(depth, box);
                     index = compactChildIndex(n, i);
                     leaf = ((leafMask >> i) & 1u) != 0;
                     key = childKey(key, i);
@@ -340,7 +541,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         const int parentDepth = levels - 1;
         const uint64_t parentKey = key >> (3 * (depth - parentDepth));
         if (levelBoxDepth != parentDepth) {  // back up a level: halve the parent's box again
-            levelBox = compactCellBox(v.rootBox, parentKey, parentDepth);
+            levelBox = kept.recall(v.rootBox, parentKey, parentDepth);
             levelBoxDepth = parentDepth;
         }
         CompactNode& parent = level[parentDepth];
