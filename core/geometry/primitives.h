@@ -107,7 +107,9 @@ constexpr float kTriangleRefine = 0x1p-20f;
 // bound").
 OCT_HD inline bool intersectTriangle(const ShearedRay& r, const Triangle& tri, float tmin,
                                      float tmax, float& tHit) {
-    Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
+    // const: the run-time indexed reads below take Vec3's const operator[] (one indexed load on
+    // the host, vec3.h), not the select chain of the writable one.
+    const Vec3 a = tri.v0 - r.org, b = tri.v1 - r.org, c = tri.v2 - r.org;
     float ax = a[r.kx] - r.sx * a[r.kz], ay = a[r.ky] - r.sy * a[r.kz];
     float bx = b[r.kx] - r.sx * b[r.kz], by = b[r.ky] - r.sy * b[r.kz];
     float cx = c[r.kx] - r.sx * c[r.kz], cy = c[r.ky] - r.sy * c[r.kz];
