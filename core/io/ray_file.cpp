@@ -1,5 +1,6 @@
 #include "core/io/ray_file.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -28,32 +29,66 @@ std::string number(double v) {
 
 }  // namespace
 
-std::string rayRowProblem(const float* r) {
-    // The bounds as float32, the type of the file: 1e-19 written by numpy is float(1e-19).
-    const float maxOrigin = float(kMaxRayOrigin);
-    const float minDirection = float(kMinRayDirection), maxDirection = float(kMaxRayDirection);
+namespace {
+
+// Which part of the rule a row breaks: the rule itself, decided with a few compares and no
+// message, which only the one row reported needs (rayRowProblem).
+enum class RowFault { None, Origin, Direction, ZeroDirection, DirectionRange, Tmin, Tmax };
+
+// The bounds as float32, the type of the file: 1e-19 written by numpy is float(1e-19).
+const float kMaxOriginF = float(kMaxRayOrigin);
+const float kMinDirectionF = float(kMinRayDirection), kMaxDirectionF = float(kMaxRayDirection);
+
+float largestDirection(const float* r) {
+    return std::max(std::max(std::fabs(r[3]), std::fabs(r[4])), std::fabs(r[5]));
+}
+
+inline RowFault rowFault(const float* r) {
     for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(r[k]) || std::fabs(r[k]) > maxOrigin)
-            return "origin component " + number(r[k]) + " is not finite or beyond +-" +
-                   number(kMaxRayOrigin) +
-                   ", where float32 tracing stops being exact enough (docs/ROBUSTNESS.md, "
-                   "numeric range); move the origin closer to the scene";
-    float largest = 0.0f;
-    for (int k = 3; k < 6; ++k) {
-        if (!std::isfinite(r[k])) return "direction component " + number(r[k]) + " is not finite";
-        largest = std::max(largest, std::fabs(r[k]));
+        if (!std::isfinite(r[k]) || std::fabs(r[k]) > kMaxOriginF) return RowFault::Origin;
+    if (!std::isfinite(r[3]) || !std::isfinite(r[4]) || !std::isfinite(r[5]))
+        return RowFault::Direction;
+    const float largest = largestDirection(r);
+    if (largest == 0.0f) return RowFault::ZeroDirection;
+    if (largest < kMinDirectionF || largest > kMaxDirectionF) return RowFault::DirectionRange;
+    if (!std::isfinite(r[6]) || r[6] < 0.0f) return RowFault::Tmin;
+    if (std::isnan(r[7]) || r[7] < r[6]) return RowFault::Tmax;
+    return RowFault::None;
+}
+
+}  // namespace
+
+std::string rayRowProblem(const float* r) {
+    switch (rowFault(r)) {
+        case RowFault::None:
+            return "";
+        case RowFault::Origin:
+            for (int k = 0; k < 3; ++k)
+                if (!std::isfinite(r[k]) || std::fabs(r[k]) > kMaxOriginF)
+                    return "origin component " + number(r[k]) + " is not finite or beyond +-" +
+                           number(kMaxRayOrigin) +
+                           ", where float32 tracing stops being exact enough "
+                           "(docs/ROBUSTNESS.md, numeric range); move the origin closer to the "
+                           "scene";
+            break;
+        case RowFault::Direction:
+            for (int k = 3; k < 6; ++k)
+                if (!std::isfinite(r[k]))
+                    return "direction component " + number(r[k]) + " is not finite";
+            break;
+        case RowFault::ZeroDirection:
+            return "the direction is zero";
+        case RowFault::DirectionRange:
+            return "the direction's largest component " + number(largestDirection(r)) +
+                   " is outside [" + number(kMinRayDirection) + ", " + number(kMaxRayDirection) +
+                   "]; scale the direction (t is measured in its units)";
+        case RowFault::Tmin:
+            return "tmin " + number(r[6]) +
+                   " must be finite and >= 0 (Embree, the ground truth, traces no negative "
+                   "tmin); move the origin to o + tmin * d and trace [0, tmax - tmin]";
+        case RowFault::Tmax:
+            return "tmax " + number(r[7]) + " must be >= tmin " + number(r[6]) + " (+inf allowed)";
     }
-    if (largest == 0.0f) return "the direction is zero";
-    if (largest < minDirection || largest > maxDirection)
-        return "the direction's largest component " + number(largest) + " is outside [" +
-               number(kMinRayDirection) + ", " + number(kMaxRayDirection) +
-               "]; scale the direction (t is measured in its units)";
-    if (!std::isfinite(r[6]) || r[6] < 0.0f)
-        return "tmin " + number(r[6]) +
-               " must be finite and >= 0 (Embree, the ground truth, traces no negative tmin); "
-               "move the origin to o + tmin * d and trace [0, tmax - tmin]";
-    if (std::isnan(r[7]) || r[7] < r[6])
-        return "tmax " + number(r[7]) + " must be >= tmin " + number(r[6]) + " (+inf allowed)";
     return "";
 }
 
@@ -66,7 +101,7 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
     const int64_t n = int64_t(rows);
 #pragma omp parallel for schedule(static) reduction(min : first)
     for (int64_t i = 0; i < n; ++i)
-        if (uint64_t(i) < first && !rayRowProblem(rays + 8 * i).empty()) first = uint64_t(i);
+        if (uint64_t(i) < first && rowFault(rays + 8 * i) != RowFault::None) first = uint64_t(i);
     return first;
 }
 
