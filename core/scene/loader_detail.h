@@ -11,6 +11,9 @@
 // silently misread, hang on, crash or abort on, or size from an impossible header count
 // (body_readers.h). Valid input the reader would misread as it is (a byte-order mark, OBJ line
 // continuations, some PLY face properties) is handed to it as a rewritten copy instead.
+// Plain OBJ files skip all of that: octrace's fast reader (obj_fast_reader.cpp) parses them
+// once, in parallel, into the same RawMesh and Survey and leaves every other file to the path
+// above.
 // docs/ROBUSTNESS.md lists the cases; tests/data/bad/ holds one malformed file for each,
 // tests/data/odd/ the odd but valid ones, and fuzz/ fuzzes this whole path.
 #pragma once
@@ -131,6 +134,14 @@ Scene sphereScene(const std::string& path, const std::vector<Vec3>& points, Load
 // One loader per format (format_*.cpp), each listed once in scene_formats.cpp.
 
 Scene loadObj(const std::string& path, const LoadOptions& opts);
+// OBJ's two readers. readObjFast reads the whole file once, in parallel chunks, into the RawMesh
+// and Survey the reference path would produce, and lists its "mtllib" names; it returns false,
+// having decided nothing, for a file outside the plain part of the format it takes
+// (obj_fast_reader.cpp). loadObjWithOpenMesh is the reference path: survey, then OpenMesh's
+// reader (format_obj.cpp). loadObj tries the first and falls back to the second.
+bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
+                 std::vector<std::string>& materialLibraries);
+Scene loadObjWithOpenMesh(const std::string& path);
 Scene loadPly(const std::string& path, const LoadOptions& opts);
 Scene loadOff(const std::string& path, const LoadOptions& opts);
 Scene loadStl(const std::string& path, const LoadOptions& opts);

@@ -1,0 +1,223 @@
+// The fast OBJ reader (core/scene/obj_fast_reader.cpp) against the reference path it
+// replaces (survey and OpenMesh's reader): the same
+// Scene bit for bit (triangles, source faces, every report count) or the same refusal, word for
+// word, on every committed mesh, every corpus file and generated edge cases. The committed
+// meshes must also be taken by the fast readers, so that this compares two readers, not one.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "core/scene/load_scene.h"
+#include "core/scene/loader_detail.h"
+
+namespace oct {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace scene_detail;
+
+// What loading a file gave: the scene, or the refusal's message.
+struct Outcome {
+    bool loaded = false;
+    std::string error;
+    Scene scene;
+};
+
+template <class Load>
+Outcome outcomeOf(Load load) {
+    Outcome o;
+    try {
+        o.scene = load();
+        o.loaded = true;
+    } catch (const SceneError& e) {
+        o.error = e.what();
+    }
+    return o;
+}
+
+void expectSameOutcome(const Outcome& fast, const Outcome& reference) {
+    ASSERT_EQ(fast.loaded, reference.loaded)
+        << "fast: " << fast.error << " | reference: " << reference.error;
+    EXPECT_EQ(fast.error, reference.error);
+    if (!fast.loaded) return;
+    const Scene& a = fast.scene;
+    const Scene& b = reference.scene;
+    EXPECT_EQ(a.kind, b.kind);
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    EXPECT_EQ(0, std::memcmp(a.triangles.data(), b.triangles.data(),
+                             a.triangles.size() * sizeof(Triangle)))
+        << "triangles differ in some bit";
+    EXPECT_EQ(a.sourceFace, b.sourceFace);
+    ASSERT_EQ(a.spheres.size(), b.spheres.size());
+    EXPECT_EQ(0,
+              std::memcmp(a.spheres.data(), b.spheres.data(), a.spheres.size() * sizeof(Sphere)));
+    const LoadReport &r = a.report, &s = b.report;
+    EXPECT_EQ(r.format, s.format);
+    EXPECT_EQ(r.verticesRead, s.verticesRead);
+    EXPECT_EQ(r.facesRead, s.facesRead);
+    EXPECT_EQ(r.polygonsTriangulated, s.polygonsTriangulated);
+    EXPECT_EQ(r.droppedInvalidIndex, s.droppedInvalidIndex);
+    EXPECT_EQ(r.droppedNonFinite, s.droppedNonFinite);
+    EXPECT_EQ(r.droppedDegenerate, s.droppedDegenerate);
+    EXPECT_EQ(r.droppedTooFewVertices, s.droppedTooFewVertices);
+}
+
+// loadObj (fast reader first) against the reference path alone.
+void expectSameAsReference(const std::string& path) {
+    SCOPED_TRACE(path);
+    expectSameOutcome(outcomeOf([&] { return loadObj(path, {}); }),
+                      outcomeOf([&] { return loadObjWithOpenMesh(path); }));
+}
+
+bool fastReaderTakes(const std::string& path) {
+    RawMesh raw;
+    Survey survey;
+    std::vector<std::string> libraries;
+    return readObjFast(path, raw, survey, libraries);
+}
+
+std::vector<std::string> filesIn(const std::string& dir) {
+    std::vector<std::string> files;
+    if (!fs::is_directory(dir)) return files;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+        const std::string ext = lowerExtension(entry.path().string());
+        if (entry.is_regular_file() && ext == "obj") files.push_back(entry.path().string());
+    }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+TEST(FastReaders, CommittedMeshesAreReadFastAndAsBefore) {
+    const std::vector<std::string> meshes = filesIn(std::string(OCT_SOURCE_DIR) + "/meshes");
+    ASSERT_GE(meshes.size(), 4u);
+    for (const std::string& path : meshes) {
+        if (path.find("/cache/") == std::string::npos) {
+            EXPECT_TRUE(fastReaderTakes(path)) << path;
+        }
+        expectSameAsReference(path);
+    }
+}
+
+TEST(FastReaders, BunnyIfFetched) {
+    const std::string path = std::string(OCT_SOURCE_DIR) + "/meshes/cache/bunny.obj";
+    if (!fs::exists(path)) GTEST_SKIP() << path << " not fetched";
+    EXPECT_TRUE(fastReaderTakes(path));
+    expectSameAsReference(path);
+}
+
+// Every malformed and odd corpus file: the same scene or the same one-line refusal.
+TEST(FastReaders, CorpusFilesLoadOrFailAsBefore) {
+    size_t files = 0;
+    for (const char* dir : {"/tests/data/bad", "/tests/data/odd"})
+        for (const std::string& path : filesIn(std::string(OCT_SOURCE_DIR) + dir)) {
+            ++files;
+            expectSameAsReference(path);
+        }
+    EXPECT_GE(files, 30u);
+}
+
+class GeneratedFiles : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("octrace_fast_readers_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string write(const std::string& name, const std::string& text) {
+        const std::string path = (dir_ / name).string();
+        std::ofstream(path, std::ios::binary) << text;
+        return path;
+    }
+
+    // Each case is written as `name` holding head + its body; the fast reader must take it
+    // exactly when the case says so, and load it as the reference path does.
+    void expectCases(const std::string& name, const std::string& head,
+                     const std::vector<std::pair<std::string, bool>>& cases) {
+        for (const auto& [body, fast] : cases) {
+            const std::string path = write(name, head + body);
+            SCOPED_TRACE(body);
+            EXPECT_EQ(fastReaderTakes(path), fast);
+            expectSameAsReference(path);
+        }
+    }
+
+    fs::path dir_;
+};
+
+// A grid of w x h vertices as "v" lines and its quads as "f" lines, written with the corner
+// forms in turn and every other row with negative (relative) indices, so that relative indices
+// cross the readers' chunk boundaries.
+std::string gridObj(int w, int h, const std::string& eol) {
+    std::string text = "# grid" + eol;
+    std::vector<std::string> forms = {"", "/1", "//1", "/1/1"};
+    int written = 0;
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x, ++written)
+            text += "v " + std::to_string(x * 0.1) + " " + std::to_string(y * 0.37) + " " +
+                    std::to_string((x * y) % 7 * 1e-3) + eol;
+        if (y == 0) continue;
+        for (int x = 0; x + 1 < w; ++x) {
+            const int a = (y - 1) * w + x + 1, b = a + 1, c = a + w + 1, d = a + w;
+            const std::string& form = forms[size_t(x) % forms.size()];
+            auto corner = [&](int i) {
+                return (y % 2 ? std::to_string(i) : std::to_string(i - written - 1)) + form;
+            };
+            text += "f " + corner(a) + " " + corner(b) + " " + corner(c) + " " + corner(d) + eol;
+        }
+        text += "vt 0.5 0.5" + eol + "g row" + std::to_string(y) + eol;
+    }
+    return text;
+}
+
+TEST_F(GeneratedFiles, ObjGridsInManyChunks) {
+    for (const char* eol : {"\n", "\r\n"}) {
+        const std::string path = write("grid.obj", gridObj(120, 90, eol));
+        EXPECT_TRUE(fastReaderTakes(path)) << "eol " << (eol[1] ? "CRLF" : "LF");
+        expectSameAsReference(path);
+    }
+    const std::string bom = write("bom.obj", std::string(kUtf8Bom) + gridObj(30, 20, "\n"));
+    EXPECT_TRUE(fastReaderTakes(bom));
+    expectSameAsReference(bom);
+}
+
+// Statements the fast reader takes and the ones it leaves to the reference path, each in a
+// small mesh with one good triangle so that the file loads.
+TEST_F(GeneratedFiles, ObjEdgeCases) {
+    const std::string base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n";
+    const std::vector<std::pair<std::string, bool>> cases = {
+        // {what follows the four vertices, whether the fast reader takes the file}
+        {"f 1 2 3\n", true},
+        {"f 1 2 3 4\nf -1 -2 -3\n", true},                  // polygon, relative indices
+        {"f 1/1/1 2//2 3/3\n", true},                       // corner forms
+        {"f 1 2 3\nf 1 2 9\nf 1 2 0\nf -9 1 2\n", true},    // out of range, zero, too relative
+        {"f 1 2 3\nf 1 1 2\nf 1 2\nf 1 1 1 2\n", true},     // repeated corners, too few
+        {"f 1 2 3\nf 1 2 3 5\n", true},                     // forward reference, out of range
+        {"f 1 2 3\nf 1 2 4\nv 5 5 5\nf 1 2 5\n", true},     // vertex after faces
+        {"\tf 1 2 3 \r\n  # comment \\\nv 1 1 1\n", true},  // blanks, CRLF, comment with '\'
+        {"o thing\ns 1\nusemtl none\nvn 0 0 1\nf 1 2 3\n", true},
+        {"mtllib missing.mtl\nf 1 2 3\n", true},
+        {"v 1 2 3 0.5 0.5 0.5\nf 1 2 5\n", true},  // colours after the coordinates
+        {"f 1 2 3 # comment\n", false},            // a word where a corner goes
+        {"f 1 2 \\\n 3\n", false},                 // continued statement
+        {"v 1e39 0 0\nf 1 2 5\n", false},          // overflow
+        {"v nan 0 0\nf 1 2 5\nf 1 2 3\n", false},
+        {"v 1 2\nf 1 2 3\n", false},       // short vertex
+        {"v +1 0 0\nf 1 2 3\n", false},    // a sign from_chars refuses
+        {"f 1 2 3 99999999999\n", false},  // beyond int
+        {"f /1 2 3\n", false},             // corner without a vertex
+        {"vt x y\nf 1 2 3\n", false},
+        {"\vv 3 3 3\nf 1 2 3\n", false},  // '\v' before the keyword
+    };
+    expectCases("case.obj", base, cases);
+}
+
+}  // namespace
+}  // namespace oct
