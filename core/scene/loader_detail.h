@@ -11,9 +11,9 @@
 // silently misread, hang on, crash or abort on, or size from an impossible header count
 // (body_readers.h). Valid input the reader would misread as it is (a byte-order mark, OBJ line
 // continuations, some PLY face properties) is handed to it as a rewritten copy instead.
-// Plain OBJ files skip all of that: octrace's fast reader (obj_fast_reader.cpp) parses them
-// once, in parallel, into the same RawMesh and Survey and leaves every other file to the path
-// above.
+// Plain OBJ files and plain ASCII PLY bodies skip all of that: octrace's fast readers
+// (obj_fast_reader.cpp, ply_fast_reader.cpp) parse them once, in parallel, into the same
+// RawMesh (and Survey) and leave every other file to the path above.
 // docs/ROBUSTNESS.md lists the cases; tests/data/bad/ holds one malformed file for each,
 // tests/data/odd/ the odd but valid ones, and fuzz/ fuzzes this whole path.
 #pragma once
@@ -143,6 +143,13 @@ bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
                  std::vector<std::string>& materialLibraries);
 Scene loadObjWithOpenMesh(const std::string& path);
 Scene loadPly(const std::string& path, const LoadOptions& opts);
+// PLY's two body readers, after the same header parse and count checks: readPlyFast reads a
+// plain ASCII body in parallel chunks into the RawMesh OpenMesh's reader would hand over, or
+// returns false, having decided nothing (ply_fast_reader.cpp); loadPlyWithOpenMesh loads with
+// the reference path only (format_ply.cpp). loadPly tries the first and falls back.
+struct PlyHeader;
+bool readPlyFast(const std::string& path, const PlyHeader& header, RawMesh& raw);
+Scene loadPlyWithOpenMesh(const std::string& path, const LoadOptions& opts);
 Scene loadOff(const std::string& path, const LoadOptions& opts);
 Scene loadStl(const std::string& path, const LoadOptions& opts);
 Scene loadXyz(const std::string& path, const LoadOptions& opts);

@@ -1,6 +1,6 @@
 // Reading a text scene file at speed: the whole file in one read, split into line-aligned
 // chunks that OpenMP threads parse at once, and the number parsers those chunks use. The
-// fast reader built on these (obj_fast_reader.cpp) accept only input
+// fast readers built on these (obj_fast_reader.cpp, ply_fast_reader.cpp) accept only input
 // whose every value parses here exactly as the reference path parses it, and hand everything
 // else back to that path (loader_detail.h).
 #pragma once

@@ -1,5 +1,5 @@
-// The fast OBJ reader (core/scene/obj_fast_reader.cpp) against the reference path it
-// replaces (survey and OpenMesh's reader): the same
+// The fast OBJ and ASCII PLY readers (core/scene/obj_fast_reader.cpp, ply_fast_reader.cpp)
+// against the reference path they replace (survey, body walk and OpenMesh's readers): the same
 // Scene bit for bit (triangles, source faces, every report count) or the same refusal, word for
 // word, on every committed mesh, every corpus file and generated edge cases. The committed
 // meshes must also be taken by the fast readers, so that this compares two readers, not one.
@@ -14,6 +14,7 @@
 
 #include "core/scene/load_scene.h"
 #include "core/scene/loader_detail.h"
+#include "core/scene/ply_header.h"
 
 namespace oct {
 namespace {
@@ -67,15 +68,20 @@ void expectSameOutcome(const Outcome& fast, const Outcome& reference) {
     EXPECT_EQ(r.droppedTooFewVertices, s.droppedTooFewVertices);
 }
 
-// loadObj (fast reader first) against the reference path alone.
+// loadObj / loadPly (fast reader first) against the reference path alone.
 void expectSameAsReference(const std::string& path) {
     SCOPED_TRACE(path);
-    expectSameOutcome(outcomeOf([&] { return loadObj(path, {}); }),
-                      outcomeOf([&] { return loadObjWithOpenMesh(path); }));
+    if (lowerExtension(path) == "obj")
+        expectSameOutcome(outcomeOf([&] { return loadObj(path, {}); }),
+                          outcomeOf([&] { return loadObjWithOpenMesh(path); }));
+    else
+        expectSameOutcome(outcomeOf([&] { return loadPly(path, {}); }),
+                          outcomeOf([&] { return loadPlyWithOpenMesh(path, {}); }));
 }
 
 bool fastReaderTakes(const std::string& path) {
     RawMesh raw;
+    if (lowerExtension(path) == "ply") return readPlyFast(path, parsePlyHeader(path), raw);
     Survey survey;
     std::vector<std::string> libraries;
     return readObjFast(path, raw, survey, libraries);
@@ -86,7 +92,8 @@ std::vector<std::string> filesIn(const std::string& dir) {
     if (!fs::is_directory(dir)) return files;
     for (const auto& entry : fs::recursive_directory_iterator(dir)) {
         const std::string ext = lowerExtension(entry.path().string());
-        if (entry.is_regular_file() && ext == "obj") files.push_back(entry.path().string());
+        if (entry.is_regular_file() && (ext == "obj" || ext == "ply"))
+            files.push_back(entry.path().string());
     }
     std::sort(files.begin(), files.end());
     return files;
@@ -94,20 +101,28 @@ std::vector<std::string> filesIn(const std::string& dir) {
 
 TEST(FastReaders, CommittedMeshesAreReadFastAndAsBefore) {
     const std::vector<std::string> meshes = filesIn(std::string(OCT_SOURCE_DIR) + "/meshes");
-    ASSERT_GE(meshes.size(), 4u);
+    ASSERT_GE(meshes.size(), 5u);
     for (const std::string& path : meshes) {
-        if (path.find("/cache/") == std::string::npos) {
+        const bool cached = path.find("/cache/") != std::string::npos;
+        // Binary PLY is left to the reference path (cube_binary.ply).
+        if (!cached && path.find("binary") == std::string::npos) {
             EXPECT_TRUE(fastReaderTakes(path)) << path;
         }
         expectSameAsReference(path);
     }
 }
 
-TEST(FastReaders, BunnyIfFetched) {
-    const std::string path = std::string(OCT_SOURCE_DIR) + "/meshes/cache/bunny.obj";
-    if (!fs::exists(path)) GTEST_SKIP() << path << " not fetched";
-    EXPECT_TRUE(fastReaderTakes(path));
-    expectSameAsReference(path);
+TEST(FastReaders, BunnyAndDragonsIfFetched) {
+    const std::string cache = std::string(OCT_SOURCE_DIR) + "/meshes/cache/";
+    int found = 0;
+    for (const char* name :
+         {"bunny.obj", "dragon_vrip_res4.ply", "dragon_vrip_res2.ply", "dragon_vrip.ply"}) {
+        if (!fs::exists(cache + name)) continue;
+        ++found;
+        EXPECT_TRUE(fastReaderTakes(cache + name)) << name;
+        expectSameAsReference(cache + name);
+    }
+    if (found == 0) GTEST_SKIP() << cache << " not fetched";
 }
 
 // Every malformed and odd corpus file: the same scene or the same one-line refusal.
@@ -118,7 +133,7 @@ TEST(FastReaders, CorpusFilesLoadOrFailAsBefore) {
             ++files;
             expectSameAsReference(path);
         }
-    EXPECT_GE(files, 30u);
+    EXPECT_GE(files, 40u);
 }
 
 class GeneratedFiles : public ::testing::Test {
@@ -217,6 +232,78 @@ TEST_F(GeneratedFiles, ObjEdgeCases) {
         {"\vv 3 3 3\nf 1 2 3\n", false},  // '\v' before the keyword
     };
     expectCases("case.obj", base, cases);
+}
+
+std::string gridPly(int w, int h, const std::string& eol, const std::string& extra = "") {
+    std::string vertices, faces;
+    int faceCount = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            vertices += std::to_string(x * 0.1) + " " + std::to_string(y * 0.37) + " " +
+                        std::to_string((x * y) % 7 * 1e-3) + eol;
+    for (int y = 0; y + 1 < h; ++y)
+        for (int x = 0; x + 1 < w; ++x, ++faceCount) {
+            const int a = y * w + x, b = a + 1, c = a + w + 1, d = a + w;
+            faces += (x % 3 == 0 ? "4 " + std::to_string(a) + " " + std::to_string(b) + " " +
+                                       std::to_string(c) + " " + std::to_string(d)
+                                 : "3 " + std::to_string(a) + " " + std::to_string(b) + " " +
+                                       std::to_string(c)) +
+                     eol;
+        }
+    return "ply" + eol + "format ascii 1.0" + eol + "comment grid" + eol + "element vertex " +
+           std::to_string(w * h) + eol + "property float x" + eol + "property float y" + eol +
+           "property float z" + eol + "element face " + std::to_string(faceCount) + eol +
+           "property list uchar int vertex_indices" + eol + "end_header" + eol + vertices + faces +
+           extra;
+}
+
+TEST_F(GeneratedFiles, PlyGridsInManyChunks) {
+    for (const char* eol : {"\n", "\r\n"}) {
+        const std::string path = write("grid.ply", gridPly(150, 100, eol));
+        EXPECT_TRUE(fastReaderTakes(path));
+        expectSameAsReference(path);
+    }
+    // After the faces OpenMesh stops reading; so does the fast reader.
+    const std::string tail = write("tail.ply", gridPly(20, 20, "\n", "garbage after faces\n"));
+    EXPECT_TRUE(fastReaderTakes(tail));
+    expectSameAsReference(tail);
+}
+
+TEST_F(GeneratedFiles, PlyEdgeCases) {
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::string vertices = "0 0 0\n1 0 0\n0 1 0\n1 1 0\n";
+    const std::vector<std::pair<std::string, bool>> cases = {
+        {vertices + "3 0 1 2\n4 0 1 3 2\n", true},
+        {vertices + "3 0 1 2\n3 0 1 2", true},     // no final line break
+        {vertices + "3 0 1 2\n3 0 1 9\n", false},  // out of range: dropped there
+        {vertices + "3 0 1 2\n2 0 1\n", false},    // too few
+        {vertices + "3 0 1 2\n3 0 1 -1\n", false},
+        {vertices + "3 0 1 2\n3 0 1\n2\n", false},                    // a face over two lines
+        {vertices + "3 0 1 2\n", false},                              // truncated
+        {"0 0 0\n1 0 0 1\n0 1 0\n1 1 0\n3 0 1 2\n3 1 2 3\n", false},  // a fourth value
+        {"0 0 0\n3.4028235e38 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 2 3\n", false},  // beyond FLT_MAX
+        {"0 0 0\n1e39 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 2 3\n", false},
+        {"0 0 0\nnan 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 2 3\n", false},
+    };
+    expectCases("case.ply", head, cases);
+}
+
+// Vertex properties beside x, y and z, as Blender and scanners write them: normals (read as
+// floats), integer colours (ints), unknown ones (any word), in any order.
+TEST_F(GeneratedFiles, PlyVertexPropertiesBesideXyz) {
+    const std::string head =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float nx\nproperty float z\n"
+        "property uchar red\nproperty float x\nproperty float confidence\nproperty float y\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::vector<std::pair<std::string, bool>> cases = {
+        {"0 0.5 255 0 w 0\n1 0 0 1 1 0\n0 0 0 0 1 1\n1 0 0 1 1 1\n3 0 1 2\n4 0 1 3 2\n", true},
+        {"0 0.5 0.5 0 w 0\n1 0 0 1 1 0\n0 0 0 0 1 1\n1 0 0 1 1 1\n3 0 1 2\n3 0 1 3\n", false},
+        {"nan 0.5 2 0 w 0\n1 0 0 1 1 0\n0 0 0 0 1 1\n1 0 0 1 1 1\n3 0 1 2\n3 0 1 3\n", false},
+        {"0 0.5 2 0 w\n1 0 0 1 1 0\n0 0 0 0 1 1\n1 0 0 1 1 1\n3 0 1 2\n3 0 1 3\n", false},
+    };
+    expectCases("props.ply", head, cases);
 }
 
 }  // namespace
