@@ -10,8 +10,6 @@
 // it. Anything else (a line continued with '\', a coordinate that is not a plain finite float,
 // a corner that is not an integer, an index beyond int) makes it return false, and the file
 // goes to the reference path, which reads such input the way docs/ROBUSTNESS.md describes.
-#include <omp.h>
-
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
@@ -30,8 +28,8 @@ struct ObjChunk {
     bool plain = true;  // every line is in the part of the format this reader takes
     std::vector<Vec3> vertices;
     std::vector<int> corners;                    // vertex indices as written in the file
-    std::vector<uint32_t> faceStart = {0};       // face f is corners[faceStart[f], faceStart[f+1])
-    std::vector<uint32_t> verticesBefore;        // per face: this chunk's "v" lines above it
+    std::vector<size_t> faceStart = {0};         // face f is corners[faceStart[f], faceStart[f+1])
+    std::vector<size_t> verticesBefore;          // per face: this chunk's "v" lines above it
     std::vector<std::string> materialLibraries;  // "mtllib" names, in order
     // Filled once the chunk's place in the file is known (resolve()):
     std::vector<int> handedIndices;       // the handed-over faces' indices, OpenMesh's order
@@ -57,7 +55,7 @@ bool parseLine(const char* p, const char* end, ObjChunk& c) {
             if (!plainFloat(nextToken(p, last), x)) return false;
         c.vertices.push_back({xyz[0], xyz[1], xyz[2]});
     } else if (keyword == "f") {
-        c.verticesBefore.push_back(uint32_t(c.vertices.size()));
+        c.verticesBefore.push_back(c.vertices.size());
         for (std::string_view corner = nextToken(p, last); !corner.empty();
              corner = nextToken(p, last)) {
             // OpenMesh reads a corner's first component as the vertex; with default options
@@ -66,7 +64,7 @@ bool parseLine(const char* p, const char* end, ObjChunk& c) {
             if (!plainInt(corner.substr(0, corner.find('/')), index)) return false;
             c.corners.push_back(index);
         }
-        c.faceStart.push_back(uint32_t(c.corners.size()));
+        c.faceStart.push_back(c.corners.size());
     } else if (keyword == "vt" || keyword == "vn" || keyword == "vc") {
         // Unused here, but OpenMesh's reader fails the whole file on a "vt" line it cannot
         // parse: such lines, and the other attributes' for safety, go to the reference path.
@@ -99,8 +97,8 @@ void resolve(ObjChunk& c, int64_t verticesAbove, uint32_t firstFace) {
     std::vector<int> face;
     for (size_t f = 0; f + 1 < c.faceStart.size(); ++f) {
         face.clear();
-        const int64_t before = verticesAbove + c.verticesBefore[f];
-        for (uint32_t k = c.faceStart[f]; k < c.faceStart[f + 1]; ++k) {
+        const int64_t before = verticesAbove + int64_t(c.verticesBefore[f]);
+        for (size_t k = c.faceStart[f]; k < c.faceStart[f + 1]; ++k) {
             const int v = c.corners[k];
             // OpenMesh: value = nCurrentPositions + value + 1, then the handle value - 1.
             const int index = int(v < 0 ? before + v : int64_t(v) - 1);
@@ -127,12 +125,11 @@ bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
     const FileText file(path);
     const std::string_view text = file.text();
     const size_t bom = text.substr(0, 3) == kUtf8Bom ? 3 : 0;
-    const auto ranges = lineAlignedChunks(text, bom, size_t(4 * omp_get_max_threads()));
+    const auto ranges = lineAlignedChunks(text, bom);
     std::vector<ObjChunk> chunks(ranges.size());
-    const int64_t n = int64_t(ranges.size());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i)
+    forEachChunk(chunks.size(), [&](size_t i) {
         parseChunk(text.substr(ranges[i].first, ranges[i].second - ranges[i].first), chunks[i]);
+    });
     // Where each chunk's items go: after those of the chunks before it.
     struct Place {
         uint64_t vertices = 0, faces = 0, handed = 0, indices = 0;
@@ -147,9 +144,9 @@ bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
     if (place.back().vertices >= uint64_t(INT32_MAX) / 2 ||
         place.back().faces >= uint64_t(UINT32_MAX) / 2)
         return false;
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i)
+    forEachChunk(chunks.size(), [&](size_t i) {
         resolve(chunks[i], int64_t(place[i].vertices), uint32_t(place[i].faces));
+    });
     for (size_t i = 0; i < chunks.size(); ++i) {
         place[i + 1].handed = place[i].handed + chunks[i].handedFaces.size();
         place[i + 1].indices = place[i].indices + chunks[i].handedIndices.size();
@@ -165,8 +162,7 @@ bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
     raw.vertices.resize(place.back().vertices);
     raw.faceIndices.resize(place.back().indices);
     raw.faceStart.resize(place.back().handed + 1);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i) {
+    forEachChunk(chunks.size(), [&](size_t i) {
         const ObjChunk& c = chunks[i];
         const Place& at = place[i];
         std::copy(c.vertices.begin(), c.vertices.end(), raw.vertices.begin() + at.vertices);
@@ -177,7 +173,7 @@ bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
         size_t end = at.indices;
         for (size_t f = 0; f < c.handedSizes.size(); ++f)
             raw.faceStart[at.handed + f + 1] = end += c.handedSizes[f];
-    }
+    });
     for (const ObjChunk& c : chunks) {
         survey.skippedTooFew += c.tooFew;
         survey.skippedDegenerate += c.degenerate;

@@ -11,8 +11,6 @@
 // records. Any other header or line (binary bodies, other
 // properties, a value split over lines, a comment, a bad or missing value) makes it return
 // false, and the reference path reads, or refuses, the file as docs/ROBUSTNESS.md describes.
-#include <omp.h>
-
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -140,16 +138,13 @@ bool readPlyFast(const std::string& path, const PlyHeader& h, RawMesh& raw) {
     const std::string_view text = file.text();
     if (h.dataStart > text.size() || (h.dataStart > 0 && text[h.dataStart - 1] != '\n'))
         return false;
-    const auto ranges =
-        lineAlignedChunks(text, size_t(h.dataStart), size_t(4 * omp_get_max_threads()));
+    const auto ranges = lineAlignedChunks(text, size_t(h.dataStart));
     auto chunkText = [&](size_t i) {
         return text.substr(ranges[i].first, ranges[i].second - ranges[i].first);
     };
     std::vector<PlyChunk> chunks(ranges.size());
     std::vector<uint64_t> lines(ranges.size());
-    const int64_t n = int64_t(ranges.size());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i) lines[i] = countLines(chunkText(size_t(i)));
+    forEachChunk(chunks.size(), [&](size_t i) { lines[i] = countLines(chunkText(i)); });
     uint64_t total = 0;
     for (size_t i = 0; i < chunks.size(); ++i) {
         chunks[i].firstLine = total;
@@ -166,9 +161,9 @@ bool readPlyFast(const std::string& path, const PlyHeader& h, RawMesh& raw) {
         const uint64_t last = std::min(chunks[i].firstLine + lines[i], vertexCount + faceCount);
         if (last > first) reserveHuge(chunks[i].indices, size_t(3 * (last - first)));
     }
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i)
-        parseChunk(chunkText(size_t(i)), layout, vertexCount, faceCount, chunks[i], raw);
+    forEachChunk(chunks.size(), [&](size_t i) {
+        parseChunk(chunkText(i), layout, vertexCount, faceCount, chunks[i], raw);
+    });
     std::vector<size_t> indicesBefore(chunks.size() + 1, 0);
     for (size_t i = 0; i < chunks.size(); ++i) {
         if (!chunks[i].plain) return false;
@@ -177,10 +172,10 @@ bool readPlyFast(const std::string& path, const PlyHeader& h, RawMesh& raw) {
     for (size_t f = 0; f < faceCount; ++f) raw.faceStart[f + 1] += raw.faceStart[f];
     reserveHuge(raw.faceIndices, indicesBefore.back());
     raw.faceIndices.resize(indicesBefore.back());
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int64_t i = 0; i < n; ++i)
+    forEachChunk(chunks.size(), [&](size_t i) {
         std::copy(chunks[i].indices.begin(), chunks[i].indices.end(),
                   raw.faceIndices.begin() + std::ptrdiff_t(indicesBefore[i]));
+    });
     return raw.faceStart.back() == raw.faceIndices.size();
 }
 

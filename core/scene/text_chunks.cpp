@@ -1,6 +1,8 @@
 // Whole-file reads and line-aligned chunks for the fast text readers (text_chunks.h).
 #include "core/scene/text_chunks.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -22,11 +24,10 @@ FileText::FileText(const std::string& path) {
     size_ = size_t(in.gcount());                   // a file that shrank meanwhile: what was there
 }
 
-std::vector<std::pair<size_t, size_t>> lineAlignedChunks(std::string_view text, size_t from,
-                                                         size_t pieces) {
+std::vector<std::pair<size_t, size_t>> lineAlignedChunks(std::string_view text, size_t from) {
     std::vector<std::pair<size_t, size_t>> chunks;
     const size_t size = text.size() > from ? text.size() - from : 0;
-    pieces = std::max<size_t>(1, std::min(pieces, size / 4096 + 1));  // >= 4 KiB each
+    const size_t pieces = std::min(size_t(4 * std::max(1, omp_get_max_threads())), size / 4096 + 1);
     size_t begin = from;
     for (size_t k = 1; k <= pieces && begin < text.size(); ++k) {
         size_t end = k == pieces ? text.size() : std::max(begin, from + size / pieces * k);

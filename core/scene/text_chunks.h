@@ -7,7 +7,9 @@
 
 #include <charconv>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
+#include <exception>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -32,10 +34,29 @@ private:
     size_t size_ = 0;
 };
 
-// [begin, end) offsets of `pieces` chunks of text[from..] that each end after a '\n' (the last
-// one at the end of the text); fewer when the text is short. Empty chunks are left out.
-std::vector<std::pair<size_t, size_t>> lineAlignedChunks(std::string_view text, size_t from,
-                                                         size_t pieces);
+// [begin, end) offsets of the chunks of text[from..] that the threads parse: four a thread, so
+// that a chunk of slow lines does not hold the others up, each ending after a '\n' (the last
+// one at the end of the text); fewer when the text is short (at least 4 KiB each).
+std::vector<std::pair<size_t, size_t>> lineAlignedChunks(std::string_view text, size_t from);
+
+// Runs body(i) for every chunk i in [0, count) on OpenMP threads. An exception must not leave a
+// parallel region (the process would end in std::terminate, not in a SceneError naming the
+// file: a std::bad_alloc while parsing becomes "out of memory while loading ..." in loadScene),
+// so the first one thrown is caught there and rethrown after the loop.
+template <class Body>
+void forEachChunk(size_t count, const Body& body) {
+    std::exception_ptr error;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int64_t i = 0; i < int64_t(count); ++i) {
+        try {
+            body(size_t(i));
+        } catch (...) {
+#pragma omp critical(oct_for_each_chunk)
+            if (!error) error = std::current_exception();
+        }
+    }
+    if (error) std::rethrow_exception(error);
+}
 
 // The blanks std::isspace knows in the C locale (operator>> stops at them)...
 inline bool isBlank(char c) {

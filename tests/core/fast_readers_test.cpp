@@ -9,12 +9,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <new>
 #include <string>
 #include <vector>
 
 #include "core/scene/load_scene.h"
 #include "core/scene/loader_detail.h"
 #include "core/scene/ply_header.h"
+#include "core/scene/text_chunks.h"
 
 namespace oct {
 namespace {
@@ -134,6 +136,50 @@ TEST(FastReaders, CorpusFilesLoadOrFailAsBefore) {
             expectSameAsReference(path);
         }
     EXPECT_GE(files, 40u);
+}
+
+// The chunks cover the text after `from` once, in order, each ending at a line's end, so that
+// the lines read chunk by chunk are the lines of the whole text.
+TEST(FastReaders, ChunksAreWholeLinesInOrder) {
+    std::string text = "\xEF\xBB\xBF";
+    for (int i = 0; i < 20000; ++i) text += "line " + std::to_string(i) + (i % 7 ? "\n" : "\r\n");
+    text += "last line without a break";
+    const auto chunks = lineAlignedChunks(text, 3);
+    ASSERT_GT(chunks.size(), 1u);
+    size_t next = 3;
+    std::string joined;
+    for (const auto& [begin, end] : chunks) {
+        EXPECT_EQ(begin, next);
+        EXPECT_LT(begin, end);
+        if (end < text.size()) {
+            EXPECT_EQ(text[end - 1], '\n');
+        }
+        joined += text.substr(begin, end - begin);
+        next = end;
+    }
+    EXPECT_EQ(next, text.size());
+    EXPECT_EQ(joined, text.substr(3));
+    EXPECT_TRUE(lineAlignedChunks(text, text.size()).empty());
+}
+
+// An exception in one chunk reaches the caller after the parallel loop (not std::terminate),
+// so that running out of memory while parsing is still loadScene's one-line SceneError.
+TEST(FastReaders, AnExceptionInAChunkReachesTheCaller) {
+    std::vector<int> ran(64, 0);
+    EXPECT_THROW(forEachChunk(ran.size(),
+                              [&](size_t i) {
+                                  ran[i] = 1;
+                                  if (i == 5) throw SceneError("chunk 5");
+                              }),
+                 SceneError);
+    EXPECT_EQ(ran[5], 1);
+    EXPECT_THROW(forEachChunk(8,
+                              [](size_t i) {
+                                  if (i % 2) throw std::bad_alloc();
+                              }),
+                 std::bad_alloc);
+    forEachChunk(ran.size(), [&](size_t i) { ran[i] = 2; });
+    EXPECT_EQ(std::count(ran.begin(), ran.end(), 2), 64);
 }
 
 class GeneratedFiles : public ::testing::Test {
