@@ -1,5 +1,7 @@
-// Wavefront OBJ: a polygon mesh of "v" and "f" lines, read by OpenMesh's OBJ reader after a
-// survey of the same lines, parsed as that reader parses them (loader_detail.h says why).
+// Wavefront OBJ: a polygon mesh of "v" and "f" lines. Read by octrace's fast reader
+// (obj_fast_reader.cpp) when the file keeps to the plain part of the format, else, the
+// reference path, by OpenMesh's OBJ reader after a survey of the same lines, parsed as that
+// reader parses them (loader_detail.h says why). Both give the same RawMesh and Survey.
 //
 // Two things of the format OpenMesh's reader does not know are settled first, by ObjLines: a
 // UTF-8 byte-order mark before the first line (it would make the first keyword unknown and
@@ -104,12 +106,19 @@ void surveyObjFace(std::istringstream& rest, size_t vertexLinesSoFar, Survey& s,
         ++s.skippedDegenerate;
 }
 
-// OpenMesh's OBJ reader opens "mtllib NAME" as the OBJ's folder + NAME and reads it line by
-// line to its end: a FIFO there blocks forever and a device such as /dev/zero never ends.
-void checkMaterialFile(const std::string& path, std::istringstream& rest) {
+// The name an "mtllib" line gives, as OpenMesh's reader takes it: the rest of the line after
+// the keyword, trimmed.
+std::string materialLibrary(std::istringstream& rest) {
     std::string name;
     std::getline(rest, name);
     trimLine(name);
+    return name;
+}
+
+// OpenMesh's OBJ reader opens "mtllib NAME" as the OBJ's folder + NAME and reads it line by
+// line to its end: a FIFO there blocks forever and a device such as /dev/zero never ends.
+// `name` is the rest of the line after "mtllib", trimmed (materialLibrary).
+void checkMaterialFile(const std::string& path, const std::string& name) {
     const size_t slash = path.rfind('/');
     const std::string material =
         (slash == std::string::npos ? std::string("./") : path.substr(0, slash + 1)) + name;
@@ -144,7 +153,7 @@ Survey surveyObj(const std::string& path, bool& rewrite) {
         } else if (keyword == "f") {
             surveyObjFace(stream, s.vertexLineOk.size(), s, path, lineNo);
         } else if (keyword == "mtllib") {
-            checkMaterialFile(path, stream);
+            checkMaterialFile(path, materialLibrary(stream));
         }
     }
     rewrite = lines.rewritten();
@@ -169,7 +178,7 @@ void writeRewrittenObj(const std::string& path, std::ostream& out) {
 
 }  // namespace
 
-Scene loadObj(const std::string& path, const LoadOptions&) {
+Scene loadObjWithOpenMesh(const std::string& path) {
     bool rewrite = false;
     Survey survey = surveyObj(path, rewrite);
     if (!rewrite)
@@ -178,6 +187,17 @@ Scene loadObj(const std::string& path, const LoadOptions&) {
     writeRewrittenObj(path, copy);
     return buildMeshScene(path, "obj", readWithOpenMesh(copy, "obj", path, "OBJ"),
                           std::move(survey));
+}
+
+// The fast reader takes the files it reads exactly as the reference path would; it hands the
+// others (continued lines, unparsable numbers, odd corners: docs/ROBUSTNESS.md) to that path.
+Scene loadObj(const std::string& path, const LoadOptions&) {
+    RawMesh raw;
+    Survey survey;
+    std::vector<std::string> materialLibraries;
+    if (!readObjFast(path, raw, survey, materialLibraries)) return loadObjWithOpenMesh(path);
+    for (const std::string& name : materialLibraries) checkMaterialFile(path, name);
+    return buildMeshScene(path, "obj", raw, std::move(survey));
 }
 
 }  // namespace oct::scene_detail

@@ -1,6 +1,8 @@
 // PLY (Greg Turk's polygon file format), ASCII and binary of either byte order: a triangle mesh,
 // or a point cloud when it declares no faces. The header is parsed and the body walked here
 // (ply_header.h, body_readers.h) before OpenMesh's reader runs; its counts are checked after.
+// Plain ASCII files, such as the Stanford scans, are read by octrace's fast reader instead
+// (ply_fast_reader.cpp), into the same RawMesh.
 // A file OpenMesh would misread as it is (a byte-order mark, face lists beside vertex_indices,
 // a face property before them) is handed to it as a rewritten copy that holds of each face only
 // its vertex_indices; the copy is written by the same walk that checks the body.
@@ -128,9 +130,8 @@ void writeCopyHeader(const std::string& path, const PlyHeader& h, std::ostream& 
     copy << text.substr(size_t(h.bomBytes));
 }
 
-// Every declared count against the file's bytes, then the whole body; the copy OpenMesh reads
-// instead of the file goes to *copy when the header asks for one.
-ElementCounts checkPly(const std::string& path, const PlyHeader& h, std::ostream* copy) {
+// Every declared count against the file's bytes, before anything is read or sized from them.
+ElementCounts checkPlyCounts(const std::string& path, const PlyHeader& h) {
     ElementCounts counts;
     uint64_t available = fileSize(path) - std::min(fileSize(path), h.dataStart);
     for (const PlyElement& e : h.elements) {
@@ -144,31 +145,30 @@ ElementCounts checkPly(const std::string& path, const PlyHeader& h, std::ostream
         checkCountFits(path, e.count, what, available, minBytes);
         if (e.name == "face") break;
     }
-    if (copy) writeCopyHeader(path, h, *copy);
-    if (h.ascii) {
-        std::ifstream body = openOrThrow(path, std::ios::in | std::ios::binary);
-        body.seekg(std::streamoff(h.dataStart));
-        walkPlyAscii(body, path, h, copy);
-    } else {
-        walkPlyBinary(path, h, copy);
-    }
     return counts;
 }
 
-}  // namespace
-
-Scene loadPly(const std::string& path, const LoadOptions& opts) {
-    const PlyHeader header = parsePlyHeader(path);
-    RawMesh raw;
-    ElementCounts declared;
-    if (header.rewriteForOpenMesh) {
-        std::stringstream copy(std::ios::in | std::ios::out | std::ios::binary);
-        declared = checkPly(path, header, &copy);
-        raw = readWithOpenMesh(copy, "ply", path, "PLY");
+// The reference path: the whole body walked and checked, then read by OpenMesh, from a
+// rewritten copy (written by the same walk) when the header asks for one.
+RawMesh readPlyWithOpenMesh(const std::string& path, const PlyHeader& h) {
+    std::stringstream copy(std::ios::in | std::ios::out | std::ios::binary);
+    std::ostream* out = h.rewriteForOpenMesh ? &copy : nullptr;
+    if (out) writeCopyHeader(path, h, copy);
+    if (h.ascii) {
+        std::ifstream body = openOrThrow(path, std::ios::in | std::ios::binary);
+        body.seekg(std::streamoff(h.dataStart));
+        walkPlyAscii(body, path, h, out);
     } else {
-        declared = checkPly(path, header, nullptr);
-        raw = readWithOpenMesh(path, "PLY");
+        walkPlyBinary(path, h, out);
     }
+    return out ? readWithOpenMesh(copy, "ply", path, "PLY") : readWithOpenMesh(path, "PLY");
+}
+
+Scene loadPlyWith(const std::string& path, const LoadOptions& opts, bool fastReader) {
+    const PlyHeader header = parsePlyHeader(path);
+    const ElementCounts declared = checkPlyCounts(path, header);
+    RawMesh raw;
+    if (!fastReader || !readPlyFast(path, header, raw)) raw = readPlyWithOpenMesh(path, header);
     checkDeclaredCounts(path, declared, raw);
     if (declared.faces > 0) return buildMeshScene(path, "ply", raw, Survey{});
     LoadReport report;
@@ -176,6 +176,18 @@ Scene loadPly(const std::string& path, const LoadOptions& opts) {
     report.verticesRead = raw.vertices.size();
     std::vector<Vec3> kept = finitePoints(raw.vertices, report);
     return sphereScene(path, kept, std::move(report), opts);
+}
+
+}  // namespace
+
+// The fast reader takes the plain ASCII files it reads exactly as the reference path would
+// (ply_fast_reader.cpp); everything else goes to that path.
+Scene loadPly(const std::string& path, const LoadOptions& opts) {
+    return loadPlyWith(path, opts, true);
+}
+
+Scene loadPlyWithOpenMesh(const std::string& path, const LoadOptions& opts) {
+    return loadPlyWith(path, opts, false);
 }
 
 }  // namespace oct::scene_detail

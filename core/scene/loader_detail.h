@@ -11,6 +11,9 @@
 // silently misread, hang on, crash or abort on, or size from an impossible header count
 // (body_readers.h). Valid input the reader would misread as it is (a byte-order mark, OBJ line
 // continuations, some PLY face properties) is handed to it as a rewritten copy instead.
+// Plain OBJ files and plain ASCII PLY bodies skip all of that: octrace's fast readers
+// (obj_fast_reader.cpp, ply_fast_reader.cpp) parse them once, in parallel, into the same
+// RawMesh (and Survey) and leave every other file to the path above.
 // docs/ROBUSTNESS.md lists the cases; tests/data/bad/ holds one malformed file for each,
 // tests/data/odd/ the odd but valid ones, and fuzz/ fuzzes this whole path.
 #pragma once
@@ -37,6 +40,19 @@ std::ifstream openOrThrow(const std::string& path, std::ios::openmode mode = std
 uint64_t fileSize(const std::string& path);
 // "a, b or c" for lastJoin " or ": the help text's and messages' lists.
 std::string joinList(const std::vector<std::string>& items, const std::string& lastJoin);
+
+// Large arrays of a load are backed by 2 MiB pages where the kernel offers them (transparent
+// huge pages in "madvise" mode, as on Debian): the first touch of every 4 KiB page is a fault,
+// and on the project's virtual machines those faults, not the parsing, were most of a 34 MB
+// PLY's load (docs/PERFORMANCE.md, "Loading meshes"). A hint only: nothing changes where the
+// kernel declines. adviseHugePages takes any range; reserveHuge reserves a vector's room and
+// advises it before anything is written there.
+void adviseHugePages(const void* data, size_t bytes);
+template <class T>
+void reserveHuge(std::vector<T>& v, size_t count) {
+    v.reserve(count);
+    adviseHugePages(v.data(), v.capacity() * sizeof(T));
+}
 
 // Text files may begin with a UTF-8 byte-order mark (Windows editors write one). It is not
 // part of the first line's text: stripUtf8Bom removes it from the start of `firstLine` and
@@ -118,7 +134,22 @@ Scene sphereScene(const std::string& path, const std::vector<Vec3>& points, Load
 // One loader per format (format_*.cpp), each listed once in scene_formats.cpp.
 
 Scene loadObj(const std::string& path, const LoadOptions& opts);
+// OBJ's two readers. readObjFast reads the whole file once, in parallel chunks, into the RawMesh
+// and Survey the reference path would produce, and lists its "mtllib" names; it returns false,
+// having decided nothing, for a file outside the plain part of the format it takes
+// (obj_fast_reader.cpp). loadObjWithOpenMesh is the reference path: survey, then OpenMesh's
+// reader (format_obj.cpp). loadObj tries the first and falls back to the second.
+bool readObjFast(const std::string& path, RawMesh& raw, Survey& survey,
+                 std::vector<std::string>& materialLibraries);
+Scene loadObjWithOpenMesh(const std::string& path);
 Scene loadPly(const std::string& path, const LoadOptions& opts);
+// PLY's two body readers, after the same header parse and count checks: readPlyFast reads a
+// plain ASCII body in parallel chunks into the RawMesh OpenMesh's reader would hand over, or
+// returns false, having decided nothing (ply_fast_reader.cpp); loadPlyWithOpenMesh loads with
+// the reference path only (format_ply.cpp). loadPly tries the first and falls back.
+struct PlyHeader;
+bool readPlyFast(const std::string& path, const PlyHeader& header, RawMesh& raw);
+Scene loadPlyWithOpenMesh(const std::string& path, const LoadOptions& opts);
 Scene loadOff(const std::string& path, const LoadOptions& opts);
 Scene loadStl(const std::string& path, const LoadOptions& opts);
 Scene loadXyz(const std::string& path, const LoadOptions& opts);

@@ -1,6 +1,7 @@
 // Triangle scenes from what a mesh reader handed over: indices resolved to file vertices,
 // polygons fan-triangulated in face order, every unusable face dropped and counted
 // (loader_detail.h).
+#include <algorithm>
 #include <cstdint>
 #include <numeric>
 #include <vector>
@@ -124,6 +125,14 @@ Scene buildMeshScene(const std::string& path, const std::string& format, const R
     report.droppedTooFewVertices = survey.skippedTooFew;
     report.droppedDegenerate = survey.skippedDegenerate;
     report.droppedInvalidIndex = survey.skippedInvalidIndex;
+    // Room for every fan triangle at once (no regrowth and copy of the arrays); at most two a
+    // face, so that a hostile face of millions of corners cannot make this the allocation
+    // that fails.
+    size_t fanTriangles = 0;
+    for (size_t f = 0; f < raw.faceCount(); ++f)
+        fanTriangles += std::max<size_t>(raw.faceStart[f + 1] - raw.faceStart[f], 2) - 2;
+    reserveHuge(scene.triangles, std::min(fanTriangles, 2 * raw.faceCount()));
+    reserveHuge(scene.sourceFace, scene.triangles.capacity());
     std::vector<Vec3> corners;
     for (size_t f = 0; f < raw.faceCount(); ++f) {
         if (survey.lostCorner[f]) {
