@@ -226,14 +226,14 @@ TEST(CorruptionMatrix, PointCloud) { expectEveryCorruptionFails(loadScene("grid:
 
 // The campaign of issue 39: many rows of every set, one corrupted at a time, each one certify
 // run. A t made 2 % longer or shorter on the same primitive must FAIL wherever it leaves the
-// stated tolerance: outside [tmin, tmax], or farther from where the ray crosses that primitive
-// (the double truth's hit) than the t tolerance and the float test's error bound allow. A
-// grazing ray's point stays within the surface bound of its plane for a long way along the ray,
-// so the point's distance alone cannot see this; the bound along the ray can. Rows where 2 % is
-// within the tolerance (a hit at t ~ 0, a t the float test cannot pin down) are counted apart,
-// and each set must have most of its tried rows judged, so the campaign cannot pass by
-// skipping. A far primitive at the right t and a lost hit the truth clearly makes are tried on
-// the same rows.
+// stated tolerance: outside [tmin, tmax], or farther from where the ray crosses that triangle's
+// plane (in double) than the t tolerance and the float test's error bound allow. A grazing
+// ray's point stays within the surface bound of its plane for a long way along the ray, so the
+// point's distance alone cannot see this; the bound along the ray can. Rows where 2 % is within
+// the tolerance (a hit at t ~ 0, a t the float test cannot pin down) are counted apart; every
+// set with hits must have some judged, and each scene 60 corruptions a set, so the campaign
+// cannot pass by skipping. A far primitive at the right t and a lost hit the truth clearly
+// makes are tried on the same rows, and misses made hits where nothing near is touchy.
 struct CampaignCounts {
     int judged = 0;   // corruptions that must fail (and did, or the test failed)
     int excused = 0;  // 2 % within the stated tolerance: not a wrong answer
