@@ -4,6 +4,7 @@ CLI draws 256x256 (309,075 rows against 81,759). Both now read RaySetSpec's defa
 (validation/rays/ray_sets.h); this holds every option they share to the same bytes, one at a time.
 (The scene's --radius is octrace.Scene's radius=, --triangles its .triangles: compared elsewhere.)
 """
+import ast
 import re
 import warnings
 
@@ -50,6 +51,18 @@ def test_every_keyword_has_a_case():
     assert keywords and set(keywords) <= set(CASES), keywords
 
 
+def test_the_type_stubs_state_the_modules_defaults(root):
+    # python/octrace.pyi writes the defaults out for editors: a copy, held to the module's.
+    signature = octrace.rays.__doc__.splitlines()[0].split("*,")[1].split(") ->")[0]
+    module = {name: ast.literal_eval(value) for name, value in
+              re.findall(r"(\w+): [\w\[\], .]+? = ('[^']*'|\([^)]*\)|[^,]+)", signature)}
+    stub = next(f for f in ast.parse((root / "python" / "octrace.pyi").read_text()).body
+                if isinstance(f, ast.FunctionDef) and f.name == "rays")
+    stated = {a.arg: ast.literal_eval(d)
+              for a, d in zip(stub.args.kwonlyargs, stub.args.kw_defaults)}
+    assert module and stated == module
+
+
 @pytest.mark.parametrize("case", CASES)
 def test_module_and_cli_make_the_same_rays(root, cli, tmp_path, case):
     options = CASES[case]
@@ -59,10 +72,12 @@ def test_module_and_cli_make_the_same_rays(root, cli, tmp_path, case):
         warnings.simplefilter("always")
         rays, manifest = octrace.rays(octrace.Scene(path), **options)
     on_disk = npy_data(tmp_path / "R.npy")
-    assert rays.shape == on_disk.shape, f"{case}: {rays.shape[0]} rows, the CLI wrote {on_disk.shape[0]}"
+    assert rays.shape == on_disk.shape, \
+        f"{case}: {rays.shape[0]} rows, the CLI wrote {on_disk.shape[0]}"
     assert rays.tobytes() == on_disk.tobytes(), case
     assert manifest == json_file(tmp_path / "R.json"), case
     # What was left out or drawn again: the CLI's note lines, the module's warnings.
-    notes = [line[len("note"):].strip() for line in done.stdout.splitlines() if line.startswith("note")]
+    notes = [line[len("note"):].strip()
+             for line in done.stdout.splitlines() if line.startswith("note")]
     warned = [str(w.message)[len("octrace.rays: "):] for w in caught]
     assert warned == notes, case
