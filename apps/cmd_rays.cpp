@@ -19,13 +19,18 @@ namespace {
 // Same bound as validate's --rays: 8 floats a ray plus the answers of a tracer.
 constexpr uint64_t kMaxRays = kMaxSeededRays;
 
+// The defaults are RaySetSpec's, which octrace.rays takes too (python/module.cpp).
 struct RaysOptions {
     std::string scene;
     float radius = 0.0f;
-    std::string sets = "all", out, triangles;
-    uint64_t count = 30000, seed = 1;
-    CameraChoice camera;  // the camera and shadow sets: render's options, at 256x256
-    RaysOptions() { camera.size = "256x256"; }
+    std::string sets = kDefaultRaySets, out, triangles;
+    uint64_t count = RaySetSpec{}.count, seed = RaySetSpec{}.seed;
+    CameraChoice camera;  // the camera and shadow sets: render's options, at RaySetSpec's size
+    RaysOptions() {
+        const CameraOptions c = RaySetSpec{}.camera;
+        camera.size = std::to_string(c.width) + "x" + std::to_string(c.height);
+        camera.fov = c.fovDegrees;
+    }
 };
 
 // --set: chooseRaySets (validation/rays/standard_rays.h), its refusals named as --set's.

@@ -252,7 +252,9 @@ void runValidate(const ValidateCliOptions& o) {
     std::shared_ptr<const Octree> canonical;
     bool needTree = vo.replication;
     for (const LayoutDesc* l : layoutList) needTree = needTree || l->usesOctree;
-    if (needTree) canonical = buildSharedOctree(scene, lo.build);
+    BuildParams build = lo.build;  // refused at the first level one of the layouts cannot store
+    for (const LayoutDesc* l : layoutList) l->limitBuild(build, lo);
+    if (needTree) canonical = buildSharedOctree(scene, build);
     std::vector<std::unique_ptr<BuiltScene>> built;
     std::vector<std::shared_ptr<SceneTracer>> prepared;
     std::vector<TracerUnderTest> tracers;

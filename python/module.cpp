@@ -696,12 +696,13 @@ Args:
 }
 
 void defineFunctions(py::module_& m) {
-    const CameraOptions raysCamera{std::nullopt, std::nullopt, std::nullopt, std::nullopt,
-                                   45.0f,        256,          256};
-    m.def("rays", &standardRays, "scene"_a, py::kw_only(), "sets"_a = "all", "count"_a = 30000,
-          "seed"_a = 1, "size"_a = std::pair<int, int>(raysCamera.width, raysCamera.height),
-          "eye"_a = py::none(), "target"_a = py::none(), "up"_a = py::none(),
-          "fov"_a = double(raysCamera.fovDegrees), "light"_a = py::none(),
+    // `octrace rays`' defaults, from the one definition both read (validation/rays/ray_sets.h).
+    const RaySetSpec rs;
+    m.def("rays", &standardRays, "scene"_a, py::kw_only(), "sets"_a = kDefaultRaySets,
+          "count"_a = rs.count, "seed"_a = rs.seed,
+          "size"_a = std::pair<int, int>(rs.camera.width, rs.camera.height), "eye"_a = py::none(),
+          "target"_a = py::none(), "up"_a = py::none(), "fov"_a = double(rs.camera.fovDegrees),
+          "light"_a = py::none(),
           R"(The standard, seeded ray sets, as `octrace rays`: returns (rays, manifest).
 
 Args:

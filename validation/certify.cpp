@@ -35,11 +35,6 @@ void raiseMax(double& m, double v) {
     if (v > m) m = v;
 }
 
-// The t tolerance in units of the ray's t.
-double tTolerance(const HitClassifier& c, const Ray& ray) {
-    return c.policy().tTolerance * c.extent() / double(length(ray.dir));
-}
-
 // Our answer as the policy judges it. With primitive ids it is the pair as given. Without, a
 // +inf t is a miss; a t that is not a distance in [tmin, tmax] keeps primitive 0 so that
 // malformed() names it; a t within the tolerance of the reference's hit takes its primitive;
@@ -50,7 +45,7 @@ Hit judged(const HitClassifier& c, const HitArrays& ours, uint64_t i, const Ray&
     if (t == INFINITY) return {INFINITY, -1};
     if (c.malformed(ray, {t, 0})) return {t, 0};
     if (ref.prim >= 0 && !c.malformed(ray, ref) &&
-        std::fabs(double(t) - double(ref.t)) <= tTolerance(c, ray))
+        std::fabs(double(t) - double(ref.t)) <= c.tTolerance(ray))
         return {t, ref.prim};
     return {t, kUnknownPrim};
 }
@@ -301,7 +296,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             }
             const bool sealedHere =
                 o.prim >= 0 && c.onSurface(ray, o) &&
-                double(t) <= tg.t + std::max(tTolerance(c, ray), c.hitTError(ray, o.prim));
+                double(t) <= tg.t + std::max(c.tTolerance(ray), c.hitTError(ray, o.prim));
             isCandidate[k] = !sealedHere;
         });
         combine(isCandidate);
@@ -348,7 +343,7 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
             const bool onTarget =
                 own.empty() || std::binary_search(own.begin(), own.end(), uint32_t(truth[m].prim));
             const bool sealed = truth[m].prim >= 0 && onTarget &&
-                                double(truth[m].t) <= f.target.t + tTolerance(c, f.ray);
+                                double(truth[m].t) <= f.target.t + c.tTolerance(f.ray);
             state[m] = uint8_t(sealed ? LeakState::Leak : LeakState::Unsealed);
         });
         combine(truth);

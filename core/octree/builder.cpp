@@ -116,6 +116,11 @@ std::string levelText(const Scene& scene, int depth, uint64_t nodes) {
 uint64_t checkNextLevel(const Scene& scene, const BuildParams& params, uint64_t nodes,
                         uint64_t nextNodes, int nextDepth, uint64_t storeBytes,
                         const MemoryLimit& left) {
+    if (nextDepth > params.storableDepth)
+        throw OctreeError(levelText(scene, nextDepth, nextNodes) + "): " + params.depthLimit);
+    if (nodes + nextNodes > params.storableNodes)
+        throw OctreeError(levelText(scene, nextDepth, nextNodes) + ", " +
+                          std::to_string(nodes + nextNodes) + " with it): " + params.nodeLimit);
     if (nodes + nextNodes > params.maxNodes)
         throw OctreeError("octree of '" + scene.name + "' needs more than " +
                           std::to_string(params.maxNodes) + " nodes (the node budget) at depth " +

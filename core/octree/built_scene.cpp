@@ -34,7 +34,9 @@ BuiltScene bareScene(const Scene& scene) {
 BuiltScene buildScene(const Scene& scene, const LayoutDesc& layout, const LayoutOptions& options) {
     std::shared_ptr<const Octree> tree;
     auto t0 = std::chrono::steady_clock::now();
-    if (layout.usesOctree) tree = buildSharedOctree(scene, options.build);
+    BuildParams build = options.build;
+    layout.limitBuild(build, options);
+    if (layout.usesOctree) tree = buildSharedOctree(scene, build);
     const double treeSeconds = secondsSince(t0);
     BuiltScene b = convertLayout(scene, std::move(tree), layout, options);
     b.treeSeconds = treeSeconds;

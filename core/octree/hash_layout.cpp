@@ -99,6 +99,19 @@ HashOctree buildHash(const Octree& tree, const HashParams& params) {
     return h;
 }
 
+void HashLayout::limitBuild(BuildParams& build, const LayoutOptions& o) {
+    const uint64_t B = o.hash.bucketSlots;
+    if (B == 0) return;  // buildHash refuses it by name before building anything
+    const uint64_t nodes =
+        std::min(saturatingMul(B, o.hash.budgetBytes / (B * sizeof(OctreeNode))), kMaxNodeRecords);
+    limitNodes(build, nodes,
+               "the hash layout holds at most " + std::to_string(nodes) +
+                   " nodes (at least nodes / B buckets of B = " + std::to_string(B) +
+                   " slots) within the budget of " + mibText(o.hash.budgetBytes) +
+                   " and its 2^32 slots: lower --max-depth, raise --max-prims, or raise "
+                   "--hash-budget");
+}
+
 HashOctreeView hashView(const HashOctree& hash, const Octree& tree, PrimitivesView prims) {
     return {spanOf(hash.slots), hash.bucketCount, hash.bucketSlots, spanOf(tree.primIndices),
             prims};

@@ -40,6 +40,8 @@ struct HashLayout {
     static LayoutStorage convert(const Scene& scene, const std::shared_ptr<const Octree>& tree,
                                  const LayoutOptions& o);
     static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
+    // m is at least nodes / B, so --hash-budget and the 2^32 slots bound the nodes.
+    static void limitBuild(BuildParams& build, const LayoutOptions& o);
 };
 
 }  // namespace oct

@@ -14,7 +14,10 @@
 //    convert(scene, tree, options) -> LayoutStorage (the View over arrays it owns) and
 //    report(scene, tree, options) -> LayoutReport (its size and shape for `octrace info`,
 //    allocating no more than convert would), and a host lookupNode(View, key) overload
-//    (node_lookup.h) for validate's structural check.
+//    (node_lookup.h) for validate's structural check. Optional: limitBuild(build, options),
+//    the deepest level or most nodes it can store (limitDepth / limitNodes, below), when that
+//    follows from its options alone, so that the builder refuses a tree it cannot store
+//    before building it.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +50,19 @@ struct LayoutOptions {
     HashParams hash;
     uint64_t linearBudget = kDefaultLinearBudget;
 };
+
+// A layout's bound on the tree it can store, tightening a build's (BuildParams::storableDepth,
+// storableNodes) where it is the tighter: `why` is the refusal's reason and advice.
+inline void limitDepth(BuildParams& b, int depth, std::string why) {
+    if (depth >= b.storableDepth) return;
+    b.storableDepth = depth;
+    b.depthLimit = std::move(why);
+}
+inline void limitNodes(BuildParams& b, uint64_t nodes, std::string why) {
+    if (nodes >= b.storableNodes) return;
+    b.storableNodes = nodes;
+    b.nodeLimit = std::move(why);
+}
 
 // A figure of a layout's shape, for `octrace info` (JSON key and value): a count or bytes
 // (exact, 64-bit) or a real number.

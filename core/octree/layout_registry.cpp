@@ -1,5 +1,7 @@
 #include "core/octree/layout_registry.h"
 
+#include <type_traits>
+
 namespace oct {
 namespace {
 
@@ -8,10 +10,20 @@ NodeLookup lookupIn(const LayoutStorage& s, uint64_t key) {
     return lookupNode(s.as<typename L::View>(), key);
 }
 
+template <class L, class = void>
+struct HasBuildLimit : std::false_type {};
+template <class L>
+struct HasBuildLimit<L, std::void_t<decltype(&L::limitBuild)>> : std::true_type {};
+
+template <class L>
+void limitBuildOf(BuildParams& build, const LayoutOptions& o) {
+    if constexpr (HasBuildLimit<L>::value) L::limitBuild(build, o);
+}
+
 template <class L>
 LayoutDesc describe(int index) {
-    return {index,           L::kName,    L::kSummary, L::kUsesOctree,
-            L::kSkipReasons, &L::convert, &L::report,  &lookupIn<L>};
+    return {index,       L::kName,   L::kSummary,  L::kUsesOctree,  L::kSkipReasons,
+            &L::convert, &L::report, &lookupIn<L>, &limitBuildOf<L>};
 }
 
 template <class... L>

@@ -38,6 +38,9 @@ struct LayoutDesc {
     LayoutReport (*report)(const Scene& scene, const Octree& tree, const LayoutOptions& o);
     // The node with Morton key `key` in a converted layout, found as its traversal finds it.
     NodeLookup (*lookup)(const LayoutStorage& storage, uint64_t key);
+    // Tightens `build` to what the layout can store under `o` (its static limitBuild, where it
+    // has one): the builder then refuses the first level past it before making it.
+    void (*limitBuild)(BuildParams& build, const LayoutOptions& o);
 };
 
 // What commands trace when --accel is not given: the paper's two layouts (validate checks both;

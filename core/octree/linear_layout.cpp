@@ -83,6 +83,25 @@ LayoutStorage LinearLayout::convert(const Scene& scene, const std::shared_ptr<co
     return makeLayoutStorage(view, std::move(arrays));
 }
 
+void LinearLayout::limitBuild(BuildParams& build, const LayoutOptions& o) {
+    auto fits = [&](int d) {
+        return linearBytes(d) <= o.linearBudget && linearNodeCount(d) <= kMaxNodeRecords;
+    };
+    int deepest = 0;
+    while (deepest < kMaxOctreeDepth && fits(deepest + 1)) ++deepest;
+    const int past = deepest + 1;
+    if (past > kMaxOctreeDepth) return;
+    limitDepth(build, deepest,
+               linearBytes(past) > o.linearBudget
+                   ? "the linear layout's array of depth " + std::to_string(past) + " would need " +
+                         mibText(linearBytes(past)) + ", over the budget of " +
+                         mibText(o.linearBudget) +
+                         ": lower --max-depth, raise --max-prims, or raise --linear-budget"
+                   : "the linear layout's array of depth " + std::to_string(past) +
+                         " would have more than the 2^32 records its traversal indexes: lower "
+                         "--max-depth, raise --max-prims, or use the hash or compact layout");
+}
+
 LayoutReport LinearLayout::report(const Scene&, const Octree& tree, const LayoutOptions&) {
     const uint64_t indexBytes = tree.primIndices.size() * sizeof(uint32_t);
     LayoutReport r;

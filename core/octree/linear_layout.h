@@ -41,6 +41,9 @@ struct LinearLayout {
                                  const LayoutOptions& o);
     // Computed from the depth alone: the complete array is not allocated.
     static LayoutReport report(const Scene&, const Octree& tree, const LayoutOptions& o);
+    // The array's size follows from the depth alone: the deepest one within --linear-budget
+    // and the 2^32 records the traversal indexes.
+    static void limitBuild(BuildParams& build, const LayoutOptions& o);
 };
 
 }  // namespace oct

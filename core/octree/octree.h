@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/octree/node.h"
@@ -34,6 +35,14 @@ struct BuildParams {
     // as two triangles sharing an edge under --max-prims 1, split every cell along the edge
     // down to maxDepth, doubling the cells each level: 100 M nodes at depth 21.
     uint64_t maxNodes = kDefaultNodeBudget;
+    // What the layouts the tree is built for can store (LayoutDesc::limitBuild), so that the
+    // build refuses the first level past it before making that level, instead of building a
+    // tree the layout then refuses: `render quad.obj --max-depth 21 --max-prims 1` built 2^25
+    // nodes for 13 s before. Each with its refusal's reason, naming the options; the defaults
+    // bound nothing.
+    int storableDepth = kMaxOctreeDepth;
+    uint64_t storableNodes = UINT64_MAX;
+    std::string depthLimit, nodeLimit;
 };
 
 struct Octree {

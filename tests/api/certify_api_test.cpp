@@ -18,6 +18,7 @@
 #include "core/scene/load_scene.h"
 #include "tests/paths.h"
 #include "validation/certify_run.h"
+#include "validation/rays/standard_rays.h"
 
 namespace {
 
@@ -65,7 +66,9 @@ TEST(CertifyApi, DefaultsAreOctracesOwn) {
     const oct::RaySetSpec spec;
     EXPECT_EQ(r.count, spec.count);
     EXPECT_EQ(r.seed, spec.seed);
-    EXPECT_EQ(r.sets, "all");
+    EXPECT_EQ(r.width, spec.camera.width);  // the façade's own copy of the shared defaults
+    EXPECT_EQ(r.height, spec.camera.height);
+    EXPECT_EQ(r.sets, oct::kDefaultRaySets);
 }
 
 TEST(CertifyApi, OctracesOwnHitsPassAndAMovedHitFailsNamingItsRow) {

@@ -347,6 +347,33 @@ TEST_F(Robustness, OctreeNodesAreBoundedWhileBuilding) {
 #endif
 }
 
+// The same quad under a layout's own bound: the linear layout stores a complete array of
+// (8^(d+1) - 1) / 7 records, so --linear-budget bounds the depth; the hash layout needs at least
+// nodes / B buckets of B slots, so --hash-budget bounds the nodes. `render quad.obj --max-depth
+// 21 --max-prims 1` built 2^25 nodes down to depth 20 first (13 s, 90 s on a busy machine) and
+// was refused by the node budget; the build now refuses the first level the layout cannot store
+// before making it: linear at depth 9 (its array would need 7 GiB, over 4 GiB), hash at the level
+// that passes the 21,844 nodes 1 MiB of buckets can hold. Each is one line naming the options.
+TEST_F(Robustness, ALayoutsBoundRefusesTheBuildAtTheFirstLevelPastIt) {
+    ASSERT_TRUE(octtest::writeFile(path("quad.obj"),
+                                   "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n"));
+    const std::vector<std::string> deep = {"--max-depth", "21", "--max-prims", "1"};
+    auto refused = [&](std::vector<std::string> args, std::vector<const char*> says) {
+        args.insert(args.end(), deep.begin(), deep.end());
+        const RunResult r = run(args);
+        EXPECT_TRUE(isOneLineError(r)) << show(r);
+        for (const char* s : says)
+            EXPECT_NE(r.err.find(s), std::string::npos) << s << ": " << r.err;
+    };
+    const std::vector<std::string> render = {"render", path("quad.obj"), "--out", path("q.png")};
+    refused(render, {"depth 9", "linear", "--linear-budget", "--max-depth", "--max-prims"});
+    std::vector<std::string> hash = render;
+    hash.insert(hash.end(), {"--accel", "hash", "--hash-budget", "1"});
+    refused(hash, {"the hash layout", "nodes", "--hash-budget", "--max-depth"});
+    refused({"validate", path("quad.obj"), "--size", "8x8", "--rays", "10"},
+            {"depth 9", "--linear-budget", "--max-depth"});
+}
+
 // `--threads 4096` under a memory limit ended in libgomp's "Thread creation failed" (an abort,
 // no octrace line). --threads is bounded by the machine: at most 8 per core online.
 TEST_F(Robustness, ThreadsBeyondTheMachineAreRefusedWithTheBound) {

@@ -165,12 +165,21 @@ TEST_F(HitCheck, GrazingRayIsAmbiguous) {
     Ray r = {{-0.5f, 0.3f, 1e-4f * 0.7f}, d, 0, INFINITY};
     const Hit truth = c.truth().closest(toDoubleRay(r));
     ASSERT_TRUE(std::isfinite(truth.t));
-    // Our hit point on the same triangle, 5e-6 off its plane: a grazing t, within what a float
-    // test's t may be off by for this ray (the surface bound).
-    const float tOff = truth.t + 0.05f;
-    Verdict v = c.closest(r, {tOff, truth.prim}, {truth.t, truth.prim});
+    // Our hit on the same triangle, off the truth's t by half what a float test's t may be off
+    // by for this ray (hitTError), yet beyond the t tolerance: ambiguous, a grazing t.
+    const double bound = c.hitTError(r, truth.prim);
+    ASSERT_GT(0.5 * bound, 2.0 * c.tTolerance(r));
+    Verdict v = c.closest(r, {float(truth.t + 0.5 * bound), truth.prim}, {truth.t, truth.prim});
     EXPECT_EQ(v.cls, HitClass::Ambiguous) << reasonNames(v.reasons);
     EXPECT_TRUE(v.reasons & kGrazing);
+    // 0.05 along the ray, beyond that bound: the point is only 5e-6 off the plane, within the
+    // surface bound across it, but not where the ray meets the triangle (issue 39: a grazing t
+    // made a few per cent longer passed as ambiguous).
+    const float tOff = truth.t + 0.05f;
+    ASSERT_GT(0.05, 1.5 * bound);
+    v = c.closest(r, {tOff, truth.prim}, {truth.t, truth.prim});
+    EXPECT_EQ(v.cls, HitClass::Wrong) << reasonNames(v.reasons);
+    EXPECT_EQ(v.reasons, uint32_t(kOffSurface));
     // The same point reported on the other triangle, 0.035 across the diagonal from it: off its
     // surface, whatever is touchy about the ray.
     v = c.closest(r, {tOff, 1 - truth.prim}, {truth.t, truth.prim});

@@ -321,30 +321,55 @@ double DoubleTracer::distanceTo(uint32_t prim, DVec3 p) const {
     return std::fabs(length(p - toDouble(s.center)) - double(s.radius));
 }
 
-double DoubleTracer::floatTError(uint32_t prim, const DoubleRay& r) const {
-    if (prim >= count_ || scene_->kind != PrimKind::Triangles) return 0.0;
-    const Triangle& tri = scene_->triangles[prim];
+namespace {
+
+// A triangle in the ray's sheared frame of Woop, Benthin & Wald's watertight test (JCGT 2013),
+// in double: the vertices relative to the origin, sheared so that the ray runs along +z, their
+// edge functions, and the t where the ray's line crosses the triangle's plane (the mean of the
+// z weighted by the edge functions). `det` 0: the ray is parallel to the plane (or d is 0).
+struct ShearedTriangle {
+    double x[3], y[3], z[3], pz[3];
+    double e[3], det = 0.0, t = INFINITY;
+};
+
+ShearedTriangle shear(const Triangle& tri, const DoubleRay& r) {
+    ShearedTriangle s;
     const double d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
     int kz = 0;
     for (int a = 1; a < 3; ++a)
         if (std::fabs(d[a]) > std::fabs(d[kz])) kz = a;
     const int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
-    if (d[kz] == 0.0) return INFINITY;
+    if (d[kz] == 0.0) return s;
     const double sx = -d[kx] / d[kz], sy = -d[ky] / d[kz], sz = 1.0 / d[kz];
     const Vec3 v[3] = {tri.v0, tri.v1, tri.v2};
-    double x[3], y[3], z[3], pz[3];
     for (int i = 0; i < 3; ++i) {
         const double p[3] = {double(v[i].x) - o[0], double(v[i].y) - o[1], double(v[i].z) - o[2]};
-        pz[i] = p[kz];
-        x[i] = p[kx] + sx * p[kz];
-        y[i] = p[ky] + sy * p[kz];
-        z[i] = p[kz] * sz;
+        s.pz[i] = p[kz];
+        s.x[i] = p[kx] + sx * p[kz];
+        s.y[i] = p[ky] + sy * p[kz];
+        s.z[i] = p[kz] * sz;
     }
-    const double e0 = x[1] * y[2] - y[1] * x[2], e1 = x[2] * y[0] - y[2] * x[0],
-                 e2 = x[0] * y[1] - y[0] * x[1];
-    const double det = e0 + e1 + e2;
-    if (det == 0.0) return INFINITY;
-    const double t = (e0 * z[0] + e1 * z[1] + e2 * z[2]) / det;
+    s.e[0] = s.x[1] * s.y[2] - s.y[1] * s.x[2];
+    s.e[1] = s.x[2] * s.y[0] - s.y[2] * s.x[0];
+    s.e[2] = s.x[0] * s.y[1] - s.y[0] * s.x[1];
+    s.det = s.e[0] + s.e[1] + s.e[2];
+    if (s.det != 0.0) s.t = (s.e[0] * s.z[0] + s.e[1] * s.z[1] + s.e[2] * s.z[2]) / s.det;
+    return s;
+}
+
+}  // namespace
+
+double DoubleTracer::planeCrossing(uint32_t prim, const DoubleRay& r) const {
+    if (prim >= count_ || scene_->kind != PrimKind::Triangles) return NAN;
+    const ShearedTriangle s = shear(scene_->triangles[prim], r);
+    return s.det == 0.0 ? NAN : s.t;
+}
+
+double DoubleTracer::floatTError(uint32_t prim, const DoubleRay& r) const {
+    if (prim >= count_ || scene_->kind != PrimKind::Triangles) return 0.0;
+    const ShearedTriangle s = shear(scene_->triangles[prim], r);
+    if (s.det == 0.0) return INFINITY;
+    const double *x = s.x, *y = s.y, *z = s.z, *pz = s.pz, det = s.det, t = s.t;
     // PBRT's gamma(n) for single precision: n u / (1 - n u), u = 2^-24.
     auto gamma = [](int n) { return n * 0x1p-24 / (1.0 - n * 0x1p-24); };
     auto max3 = [](double a, double b, double c) {

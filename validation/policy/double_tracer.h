@@ -105,6 +105,10 @@ public:
     // exact sheared coordinates; +inf when the ray is parallel to the triangle's plane. 0 for
     // spheres.
     double floatTError(uint32_t prim, const DoubleRay& r) const;
+    // For a triangle: the t at which the ray's line crosses its plane, inside the triangle or
+    // not (what a float test's t estimates, floatTError off); NaN when the ray is parallel to
+    // the plane, for a sphere and for an id out of range.
+    double planeCrossing(uint32_t prim, const DoubleRay& r) const;
     // The longest side of a triangle, the diameter of a sphere; the largest over the scene.
     double diameter(uint32_t prim) const;
     double largestDiameter() const { return largestDiameter_; }

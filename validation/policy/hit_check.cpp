@@ -69,8 +69,16 @@ double HitClassifier::hitTError(const Ray& ray, int32_t prim) const {
     if (prim < 0 || uint32_t(prim) >= truth_.primitiveCount()) return 0.0;
     const DoubleRay dr = toDoubleRay(ray);
     const double dirLength = length(dr.dir);
-    return std::min(kSurfaceTErrors * truth_.floatTError(uint32_t(prim), dr),
-                    truth_.diameter(uint32_t(prim)) / dirLength);
+    const double e = truth_.floatTError(uint32_t(prim), dr);
+    // A ray parallel to the plane crosses it nowhere: there is no t to be off, and a point on
+    // such a ray is on the triangle only within the floors of the bound (the diameter's cap
+    // would excuse any point within a triangle's size of it).
+    if (!std::isfinite(e)) return 0.0;
+    return std::min(kSurfaceTErrors * e, truth_.diameter(uint32_t(prim)) / dirLength);
+}
+
+double HitClassifier::tTolerance(const Ray& ray) const {
+    return policy_.tTolerance * extent_ / double(length(ray.dir));
 }
 
 DVec3 HitClassifier::hitPoint(const Ray& ray, float t) const {
@@ -85,7 +93,18 @@ double HitClassifier::surfaceDistance(const Ray& ray, Hit h) const {
 
 bool HitClassifier::onSurface(const Ray& ray, Hit h) const {
     if (h.prim < 0 || malformed(ray, h)) return false;
-    return surfaceDistance(ray, h) <= surfaceBound(ray, h.prim);
+    return onPrimitive(ray, h.t, uint32_t(h.prim), surfaceDistance(ray, h));
+}
+
+bool HitClassifier::onPrimitive(const Ray& ray, float t, uint32_t prim, double distance) const {
+    if (!(distance <= surfaceBound(ray, int32_t(prim)))) return false;
+    // Along the ray as well as across the surface: a grazing ray stays within the bound of the
+    // plane for a long way, so a t several per cent off is still "near" the triangle there.
+    // A float test's t is the plane crossing's, off by at most its error bound (Woop et al.'s
+    // test after PBRT 3.9.6, floatTError), wherever the ray meets the plane, inside or not.
+    const double crossing = truth_.planeCrossing(prim, toDoubleRay(ray));
+    return std::isnan(crossing) || std::fabs(double(t) - crossing) <=
+                                       std::max(tTolerance(ray), hitTError(ray, int32_t(prim)));
 }
 
 bool HitClassifier::malformed(Hit h) const {
@@ -114,7 +133,7 @@ int32_t HitClassifier::surfacePrimitive(const Ray& ray, float t, bool& on) const
     const int32_t nearest = truth_.nearestTo(p, nearestDist);
     on = false;
     if (nearest < 0) return -1;
-    if (nearestDist <= surfaceBound(ray, nearest)) {
+    if (onPrimitive(ray, t, uint32_t(nearest), nearestDist)) {
         on = true;
         return nearest;
     }
@@ -130,8 +149,7 @@ int32_t HitClassifier::surfacePrimitive(const Ray& ray, float t, bool& on) const
         // bounding sphere, unmeasured.
         if (!truth_.mayLieWithin(i, p, base)) return;
         const double d = truth_.distanceTo(i, p);
-        if (d <= surfaceBound(ray, int32_t(i)) &&
-            (d < bestDist || (d == bestDist && int32_t(i) < best))) {
+        if (onPrimitive(ray, t, i, d) && (d < bestDist || (d == bestDist && int32_t(i) < best))) {
             bestDist = d;
             best = int32_t(i);
         }
@@ -186,10 +204,10 @@ Verdict HitClassifier::recheckClosest(const Ray& ray, Hit ours, Hit reference,
     const double tOurs = oursHit ? double(ours.t) : INFINITY;
     const uint32_t q = oursHit ? uint32_t(ours.prim) : 0;
 
-    // 1. The rule: our point must lie on our primitive, whatever else is touchy about the ray.
-    // On it but not where the truth meets q (within the t tolerance): an edge or vertex the
-    // ray passes within the bound of, or a grazing ray, whose long along-ray error is small
-    // across the surface.
+    // 1. The rule: our point must lie on our primitive, whatever else is touchy about the ray
+    // (onSurface: across the surface and along the ray). On it but not where the truth meets q
+    // within the t tolerance: an edge or vertex the ray passes within the bound of, or a
+    // grazing ray, whose t a float test pins down only to its error bound.
     uint32_t reasons = 0;
     if (oursHit) {
         if (!onSurface(ray, ours)) {

@@ -92,11 +92,16 @@ public:
     double surfaceDistance(const Ray& ray, Hit h) const;
     // How far a correct float tracer's t for a hit on `prim` may lie from the exact one, in units
     // of t: kSurfaceTErrors x the watertight test's bound (DoubleTracer::floatTError), capped at
-    // the primitive's diameter over |d|. 0 for spheres.
+    // the primitive's diameter over |d|. 0 for spheres and for a ray parallel to the plane.
     double hitTError(const Ray& ray, int32_t prim) const;
+    // |dt| within policy().tTolerance x extent, in units of this ray's t.
+    double tTolerance(const Ray& ray) const;
     // The rule: a well-formed hit inside [tmin, tmax] whose point lies within surfaceBound of
-    // its primitive. O(1).
+    // its primitive, and whose t lies within max(tTolerance, hitTError) of where the ray
+    // crosses a triangle's plane (onPrimitive). O(1).
     bool onSurface(const Ray& ray, Hit h) const;
+    // The same for a point at t on the ray `distance` from primitive `prim` (distanceTo).
+    bool onPrimitive(const Ray& ray, float t, uint32_t prim, double distance) const;
     // Without a primitive id (certify --no-prim): the primitive a hit at t is on, the nearest
     // to its point among those it lies within the bound of (lowest id among equals); when it
     // is on none, the nearest primitive, and `on` is false. -1 for a scene without primitives.

@@ -130,11 +130,22 @@ struct MeshTargets {
 };
 std::shared_ptr<const MeshTargets> meshTargets(const Scene& scene);
 
+// The camera and shadow sets' image when none is given: 256x256, render's framing and light.
+// `octrace rays` and octrace.rays both take their defaults from RaySetSpec{}, so that the same
+// options (or none) give the same rows through either (issue 39: a brace-initialised copy of
+// this in the Python module filled CameraOptions::from and left the size at render's 512x512).
+constexpr int kRaysImageSide = 256;
+inline CameraOptions raysCamera() {
+    CameraOptions c;
+    c.width = c.height = kRaysImageSide;
+    return c;
+}
+
 struct RaySetSpec {
     std::vector<const RaySetDesc*> sets;  // rows of standardRaySets(), in file order, each once
     uint64_t count = 30000;               // rays over the seeded sets together
     uint64_t seed = 1;
-    CameraOptions camera;  // camera and shadow sets
+    CameraOptions camera = raysCamera();  // camera and shadow sets
     // Optional, to share what one scene's sets need between calls (made when absent): the
     // mesh's targets, and a double truth of the scene to seal them with (certify's classifier's:
     // its closest hits do not depend on its tolerances).

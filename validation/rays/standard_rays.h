@@ -13,6 +13,9 @@
 
 namespace oct {
 
+// The sets `octrace rays` and octrace.rays make when none are named.
+constexpr const char* kDefaultRaySets = "all";
+
 // A --set list that names no set, an unknown set, one twice, or a set the scene cannot make.
 class RaySetChoiceError : public std::invalid_argument {
 public:
