@@ -17,6 +17,7 @@
 #include "core/io/npy.h"
 #include "core/io/ray_file.h"
 #include "core/scene/load_scene.h"
+#include "core/system/resources.h"
 #include "dist/ranks.h"
 #include "validation/rays/hit_files.h"
 
@@ -32,14 +33,14 @@ struct TraceOptions {
 // Every row by trace's rule, across ranks: the ranks agree on the lowest bad row of the file,
 // and only its rank throws (the others learn it at their next collective call), so the run
 // names the row one process names. `rays` holds this rank's blocks, packed.
+// `firstBad` is the first bad row of `rays` as read (readRayFileRowsInto), packed.
 void checkRowsOfRanks(Ranks& ranks, const std::string& path, const float* rays,
-                      const std::vector<RowRange>& blocks) {
+                      const std::vector<RowRange>& blocks, uint64_t firstBad) {
     uint64_t packed = 0, lowest = UINT64_MAX;
     for (const RowRange& b : blocks) {
-        const uint64_t bad = firstBadRayRow(rays + 8 * packed, b.count());
-        if (bad < b.count()) {
-            lowest = b.begin + bad;
-            packed += bad;
+        if (firstBad < packed + b.count()) {
+            lowest = b.begin + (firstBad - packed);
+            packed = firstBad;
             break;
         }
         packed += b.count();
@@ -73,9 +74,9 @@ void runTrace(const TraceOptions& o) {
         return std::chrono::duration<double>(Clock::now() - t).count();
     };
     Clock::time_point t0 = Clock::now();
-    std::unique_ptr<float[]> rays;
+    HugeArray<float> rays;
     std::vector<RowRange> blocks;  // this rank's rows (dist/ranks.h, RowDeal), read packed
-    uint64_t mine = 0;
+    uint64_t mine = 0, firstBad = 0;
     const uint64_t n = readRayFileRowsInto(
         o.rays,
         [&](uint64_t rows) {
@@ -87,11 +88,12 @@ void runTrace(const TraceOptions& o) {
         [&](uint64_t rows) {
             // The rows, then a t and a prim per row in the output files (rank 0: every row's).
             checkRayFileMemory("trace", o.rays, rows, 8 * sizeof(float) + sizeof(float) + 4);
-            rays.reset(new float[rows * 8]);  // default-initialised: not zeroed
+            rays = makeHugeArray<float>(rows * 8);  // not zeroed: the file fills it
             mine = rows;
             return rays.get();
-        });
-    checkRowsOfRanks(ranks, o.rays, rays.get(), blocks);
+        },
+        &firstBad);
+    checkRowsOfRanks(ranks, o.rays, rays.get(), blocks, firstBad);
 
     const double readSeconds = since(t0);
     t0 = Clock::now();

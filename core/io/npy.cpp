@@ -142,7 +142,7 @@ NpyBuffer::NpyBuffer(const std::string& descr, const std::vector<uint64_t>& shap
     const std::string header = checkedHeader(descr, shape, elementSize, dataBytes);
     dataOffset_ = 10 + header.size();
     size_ = dataOffset_ + dataBytes;
-    bytes_.reset(new uint8_t[size_]);
+    bytes_ = makeHugeArray<uint8_t>(size_);  // not zeroed: the tracer writes every element
     writePreamble(bytes_.get(), header);
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/io/output_file.h"
+#include "core/system/resources.h"
 
 namespace oct {
 
@@ -34,7 +35,7 @@ public:
     size_t size() const { return size_; }
 
 private:
-    std::unique_ptr<uint8_t[]> bytes_;  // new uint8_t[n]: not value-initialised
+    HugeArray<uint8_t> bytes_;  // not value-initialised; on huge pages (resources.h)
     size_t size_ = 0, dataOffset_ = 0;
 };
 

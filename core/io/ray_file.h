@@ -32,14 +32,17 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
 // One MPI rank's rows of the file (dist/): rowsOf(N), given the row count N the header declares,
 // names the rows to read as spans in row order, and allocate(their total) the room, which they
 // fill span after span (a seek each): no rank holds all rays. The header and the data size are
-// checked as readRayFileInto checks them; the rows are not: the ranks first agree on the lowest
-// bad row (firstBadRayRow), so the run names the row a whole read names. Returns N.
+// checked as readRayFileInto checks them; the rows are checked by the rule as they are read
+// when `firstBad` is given, which then receives the lowest bad row among those read, counted
+// in the packed buffer (their total when none): the ranks then agree on the lowest bad row, so
+// the run names the row a whole read names. Returns N.
 struct RowSpan {
     uint64_t begin = 0, end = 0;
 };
 uint64_t readRayFileRowsInto(const std::string& path,
                              const std::function<std::vector<RowSpan>(uint64_t rows)>& rowsOf,
-                             const std::function<float*(uint64_t)>& allocate);
+                             const std::function<float*(uint64_t)>& allocate,
+                             uint64_t* firstBad = nullptr);
 
 // Why row r (8 floats) cannot be traced, or "" when it can. The rule (the numeric range of
 // core/geometry/numeric_range.h, the same for every backend): the origin finite and within

@@ -1,8 +1,6 @@
 // The scene loader's small helpers (loader_detail.h).
 #include "core/scene/loader_detail.h"
 
-#include <sys/mman.h>
-
 #include <cctype>
 #include <cerrno>
 #include <cstring>
@@ -59,14 +57,6 @@ size_t stripUtf8Bom(std::string& firstLine) {
     if (firstLine.compare(0, 3, kUtf8Bom) != 0) return 0;
     firstLine.erase(0, 3);
     return 3;
-}
-
-void adviseHugePages(const void* data, size_t bytes) {
-    constexpr uintptr_t kPage = 4096;
-    if (bytes < (size_t(4) << 20)) return;  // below two huge pages: nothing to gain
-    const uintptr_t begin = (uintptr_t(data) + kPage - 1) & ~(kPage - 1);
-    const uintptr_t end = (uintptr_t(data) + bytes) & ~(kPage - 1);
-    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
 }
 
 }  // namespace oct::scene_detail

@@ -26,6 +26,7 @@
 
 #include "core/scene/load_scene.h"
 #include "core/scene/scene.h"
+#include "core/system/resources.h"
 
 namespace oct::scene_detail {
 
@@ -41,13 +42,8 @@ uint64_t fileSize(const std::string& path);
 // "a, b or c" for lastJoin " or ": the help text's and messages' lists.
 std::string joinList(const std::vector<std::string>& items, const std::string& lastJoin);
 
-// Large arrays of a load are backed by 2 MiB pages where the kernel offers them (transparent
-// huge pages in "madvise" mode, as on Debian): the first touch of every 4 KiB page is a fault,
-// and on the project's virtual machines those faults, not the parsing, were most of a 34 MB
-// PLY's load (docs/PERFORMANCE.md, "Loading meshes"). A hint only: nothing changes where the
-// kernel declines. adviseHugePages takes any range; reserveHuge reserves a vector's room and
-// advises it before anything is written there.
-void adviseHugePages(const void* data, size_t bytes);
+// A load's large arrays go on huge pages (adviseHugePages, core/system/resources.h): reserveHuge
+// reserves a vector's room and advises it before anything is written there.
 template <class T>
 void reserveHuge(std::vector<T>& v, size_t count) {
     v.reserve(count);

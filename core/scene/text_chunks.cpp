@@ -15,11 +15,7 @@ namespace oct::scene_detail {
 FileText::FileText(const std::string& path) {
     std::ifstream in = openOrThrow(path, std::ios::in | std::ios::binary);
     const uint64_t size = fileSize(path);
-    constexpr size_t kHugePage = size_t(2) << 20;
-    const size_t room = (size_t(size) + kHugePage) & ~(kHugePage - 1);  // aligned_alloc's rule
-    bytes_.reset(static_cast<char*>(std::aligned_alloc(kHugePage, room)));
-    if (!bytes_) throw std::bad_alloc();
-    adviseHugePages(bytes_.get(), room);
+    bytes_ = makeHugeArray<char>(size_t(size));
     in.read(bytes_.get(), std::streamsize(size));  // not zeroed first: every byte is read over
     size_ = size_t(in.gcount());                   // a file that shrank meanwhile: what was there
 }

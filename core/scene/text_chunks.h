@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/system/resources.h"
+
 namespace oct::scene_detail {
 
 // A file's bytes, read at once into an uninitialised buffer on huge pages (adviseHugePages),
@@ -27,10 +29,7 @@ public:
     std::string_view text() const { return {bytes_.get(), size_}; }
 
 private:
-    struct Free {
-        void operator()(char* p) const { std::free(p); }
-    };
-    std::unique_ptr<char[], Free> bytes_;
+    HugeArray<char> bytes_;
     size_t size_ = 0;
 };
 

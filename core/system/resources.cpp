@@ -1,10 +1,12 @@
 #include "core/system/resources.h"
 
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <cstdio>
 #include <limits>
+#include <new>
 
 namespace oct {
 namespace {
@@ -97,6 +99,28 @@ std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::
     if (bytes <= m.bytes) return "";
     return what + " needs about " + bytesText(bytes) + " of memory, more than the " +
            bytesText(m.bytes) + " " + m.source + "; " + advice;
+}
+
+void adviseHugePages(const void* data, size_t bytes) {
+#if defined(MADV_HUGEPAGE)
+    constexpr uintptr_t kPage = 4096;
+    if (bytes < (size_t(4) << 20)) return;  // below two huge pages: nothing to gain
+    const uintptr_t begin = (uintptr_t(data) + kPage - 1) & ~(kPage - 1);
+    const uintptr_t end = (uintptr_t(data) + bytes) & ~(kPage - 1);
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
+}
+
+void* allocateHuge(size_t bytes) {
+    constexpr size_t kHugePage = size_t(2) << 20;
+    const size_t room = (bytes + kHugePage) & ~(kHugePage - 1);  // aligned_alloc's rule
+    void* p = std::aligned_alloc(kHugePage, room);
+    if (!p) throw std::bad_alloc();
+    adviseHugePages(p, room);
+    return p;
 }
 
 }  // namespace oct

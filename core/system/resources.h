@@ -5,7 +5,10 @@
 // kernel's OOM killer, which sends SIGKILL and leaves no line at all).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -71,5 +74,25 @@ void checkMemory(uint64_t bytes, const std::string& what, const std::string& adv
 // a * b, or UINT64_MAX when it overflows: estimates of absurd requests stay absurd, not small.
 uint64_t saturatingMul(uint64_t a, uint64_t b);
 uint64_t saturatingAdd(uint64_t a, uint64_t b);
+
+// Large arrays on 2 MiB pages where the kernel offers them (transparent huge pages in "madvise"
+// mode, as on Debian): on this project's virtual machines the first touch of every 4 KiB page
+// is a fault of some 18 us, which made most of a 34 MB mesh's load and of a 128 MB ray file's
+// read (docs/PERFORMANCE.md, "Loading meshes"). A hint only: nothing changes where the kernel
+// declines. adviseHugePages takes any range (below 4 MiB it does nothing).
+void adviseHugePages(const void* data, size_t bytes);
+
+// An uninitialised array of `count` T, 2 MiB-aligned and advised onto huge pages; throws
+// std::bad_alloc when the memory is not there.
+struct FreeDeleter {
+    void operator()(void* p) const { std::free(p); }
+};
+template <class T>
+using HugeArray = std::unique_ptr<T[], FreeDeleter>;
+void* allocateHuge(size_t bytes);
+template <class T>
+HugeArray<T> makeHugeArray(size_t count) {
+    return HugeArray<T>(static_cast<T*>(allocateHuge(count * sizeof(T))));
+}
 
 }  // namespace oct
