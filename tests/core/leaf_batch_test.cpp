@@ -20,14 +20,14 @@ namespace {
 // Any observer other than NoObserver takes the one-at-a-time loop.
 struct OneAtATime : NoObserver {};
 
-struct Outcome {
+struct LeafRun {
     LeafOutcome outcome;
     Hit best;
     uint32_t tested;
 };
 
 template <bool kAnyHit, class Obs>
-Outcome run(const std::vector<uint32_t>& list, uint32_t offset, uint32_t count,
+LeafRun run(const std::vector<uint32_t>& list, uint32_t offset, uint32_t count,
             const std::vector<Triangle>& tris, const Ray& ray) {
     const ArraySpan<uint32_t> span{list.data(), list.size()};
     const PrimitivesView prims{tris.data(), nullptr, uint32_t(tris.size()), PrimKind::Triangles};
@@ -42,8 +42,8 @@ Outcome run(const std::vector<uint32_t>& list, uint32_t offset, uint32_t count,
 template <bool kAnyHit>
 void expectSame(const std::vector<uint32_t>& list, uint32_t offset, uint32_t count,
                 const std::vector<Triangle>& tris, const Ray& ray, const char* what) {
-    const Outcome batched = run<kAnyHit, NoObserver>(list, offset, count, tris, ray);
-    const Outcome single = run<kAnyHit, OneAtATime>(list, offset, count, tris, ray);
+    const LeafRun batched = run<kAnyHit, NoObserver>(list, offset, count, tris, ray);
+    const LeafRun single = run<kAnyHit, OneAtATime>(list, offset, count, tris, ray);
     ASSERT_EQ(int(batched.outcome), int(single.outcome)) << what;
     ASSERT_EQ(batched.best.prim, single.best.prim) << what;
     ASSERT_EQ(std::memcmp(&batched.best.t, &single.best.t, sizeof(float)), 0)
