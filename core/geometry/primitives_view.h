@@ -41,6 +41,14 @@ OCT_HD inline bool intersectPrimitive(const PrimitivesView& p, uint32_t i, const
 OCT_HD inline Hit initialHit(const Ray& r) { return {r.tmax, -1}; }
 OCT_HD inline Hit finishHit(Hit h) { return h.prim < 0 ? missHit() : h; }
 
+// Primitive i hit at t replaces `best` when nearer, or at the same t with a lower id.
+OCT_HD inline void keepNearer(Hit& best, float t, uint32_t i) {
+    if (best.prim < 0 || t < best.t || (t == best.t && static_cast<int32_t>(i) < best.prim)) {
+        best.t = t;
+        best.prim = static_cast<int32_t>(i);
+    }
+}
+
 // Closest-hit update with the deterministic tie rule (equal t: lower primitive id wins), so
 // every layout reports the same primitive as exhaustive tracing for the same t. `obs` sees the
 // test (traversal_observer.h; NoObserver compiles to nothing).
@@ -51,11 +59,7 @@ OCT_HD inline void considerPrimitive(const PrimitivesView& p, uint32_t i, const 
     ++cost.primsTested;
     const bool hit = intersectPrimitive(p, i, q, best.t, t);
     obs.primTested(i, hit, t);
-    if (!hit) return;
-    if (best.prim < 0 || t < best.t || (t == best.t && static_cast<int32_t>(i) < best.prim)) {
-        best.t = t;
-        best.prim = static_cast<int32_t>(i);
-    }
+    if (hit) keepNearer(best, t, i);
 }
 
 }  // namespace oct

@@ -43,39 +43,39 @@ float largestDirection(const float* r) {
     return std::max(std::max(std::fabs(r[3]), std::fabs(r[4])), std::fabs(r[5]));
 }
 
-inline RowFault rowFault(const float* r) {
+// The part of the rule row r breaks, and for an origin or direction component, which one.
+struct RowCheck {
+    RowFault fault;
+    int component;
+};
+
+inline RowCheck rowFault(const float* r) {
     for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(r[k]) || std::fabs(r[k]) > kMaxOriginF) return RowFault::Origin;
-    if (!std::isfinite(r[3]) || !std::isfinite(r[4]) || !std::isfinite(r[5]))
-        return RowFault::Direction;
+        if (!std::isfinite(r[k]) || std::fabs(r[k]) > kMaxOriginF) return {RowFault::Origin, k};
+    for (int k = 3; k < 6; ++k)
+        if (!std::isfinite(r[k])) return {RowFault::Direction, k};
     const float largest = largestDirection(r);
-    if (largest == 0.0f) return RowFault::ZeroDirection;
-    if (largest < kMinDirectionF || largest > kMaxDirectionF) return RowFault::DirectionRange;
-    if (!std::isfinite(r[6]) || r[6] < 0.0f) return RowFault::Tmin;
-    if (std::isnan(r[7]) || r[7] < r[6]) return RowFault::Tmax;
-    return RowFault::None;
+    if (largest == 0.0f) return {RowFault::ZeroDirection, 0};
+    if (largest < kMinDirectionF || largest > kMaxDirectionF) return {RowFault::DirectionRange, 0};
+    if (!std::isfinite(r[6]) || r[6] < 0.0f) return {RowFault::Tmin, 6};
+    if (std::isnan(r[7]) || r[7] < r[6]) return {RowFault::Tmax, 7};
+    return {RowFault::None, 0};
 }
 
 }  // namespace
 
 std::string rayRowProblem(const float* r) {
-    switch (rowFault(r)) {
+    const RowCheck c = rowFault(r);
+    switch (c.fault) {
         case RowFault::None:
             return "";
         case RowFault::Origin:
-            for (int k = 0; k < 3; ++k)
-                if (!std::isfinite(r[k]) || std::fabs(r[k]) > kMaxOriginF)
-                    return "origin component " + number(r[k]) + " is not finite or beyond +-" +
-                           number(kMaxRayOrigin) +
-                           ", where float32 tracing stops being exact enough "
-                           "(docs/ROBUSTNESS.md, numeric range); move the origin closer to the "
-                           "scene";
-            break;
+            return "origin component " + number(r[c.component]) + " is not finite or beyond +-" +
+                   number(kMaxRayOrigin) +
+                   ", where float32 tracing stops being exact enough (docs/ROBUSTNESS.md, "
+                   "numeric range); move the origin closer to the scene";
         case RowFault::Direction:
-            for (int k = 3; k < 6; ++k)
-                if (!std::isfinite(r[k]))
-                    return "direction component " + number(r[k]) + " is not finite";
-            break;
+            return "direction component " + number(r[c.component]) + " is not finite";
         case RowFault::ZeroDirection:
             return "the direction is zero";
         case RowFault::DirectionRange:
@@ -101,7 +101,8 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
     const int64_t n = int64_t(rows);
 #pragma omp parallel for schedule(static) reduction(min : first)
     for (int64_t i = 0; i < n; ++i)
-        if (uint64_t(i) < first && rowFault(rays + 8 * i) != RowFault::None) first = uint64_t(i);
+        if (uint64_t(i) < first && rowFault(rays + 8 * i).fault != RowFault::None)
+            first = uint64_t(i);
     return first;
 }
 
@@ -186,8 +187,6 @@ void checkRayRows(const float* rays, uint64_t rows, const std::string& what) {
     const uint64_t first = firstBadRow(rays, rows);
     if (first < rows) throw IoError(badRayRowMessage(what, first, &rays[8 * first]));
 }
-
-uint64_t firstBadRayRow(const float* rays, uint64_t rows) { return firstBadRow(rays, rows); }
 
 std::string badRayRowMessage(const std::string& what, uint64_t row, const float* r) {
     return what + " row " + std::to_string(row) + ": " + rayRowProblem(r);

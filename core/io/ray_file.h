@@ -53,8 +53,6 @@ std::string rayRowProblem(const float* r);
 // Every row of rays (rows x 8 floats) by that rule, as the reader checks a file's: throws IoError
 // "WHAT row I: why" for the first that breaks it (`what` names the rays: the file in quotes).
 void checkRayRows(const float* rays, uint64_t rows, const std::string& what);
-// The lowest row of rays (rows x 8 floats) that breaks the rule, or `rows` when none does.
-uint64_t firstBadRayRow(const float* rays, uint64_t rows);
 // What checkRayRows throws for row r (8 floats), the file's row `row`.
 std::string badRayRowMessage(const std::string& what, uint64_t row, const float* r);
 

@@ -252,15 +252,14 @@ inline bool boundsHitSse(const SseRay& r, const QuantBounds& qb, const Aabb& cel
     __m128 nearT = _mm_min_ps(tb, ta);
     __m128 farT = _mm_mul_ps(_mm_max_ps(tb, ta), _mm_set1_ps(kSlabFarScale));
     // Lane 3 (inv 0, a finite plane) gives t = 0 there; a parallel axis admits the ray for all t
-    // when the origin lies within its slab, else never. Both made neutral.
-    const __m128 neutral =
-        r.anyParallel ? r.parallel : _mm_castsi128_ps(_mm_setr_epi32(0, 0, 0, -1));
+    // when the origin lies within its slab, else never. Both are made neutral: r.parallel holds
+    // lane 3 and the parallel axes.
     if (r.anyParallel) {
         const __m128 inside = _mm_and_ps(_mm_cmpge_ps(r.org, bLo), _mm_cmple_ps(r.org, bHi));
         if (_mm_movemask_ps(_mm_andnot_ps(inside, r.parallel)) & 7) return false;
     }
-    nearT = select(neutral, _mm_set1_ps(-INFINITY), nearT);
-    farT = select(neutral, _mm_set1_ps(INFINITY), farT);
+    nearT = select(r.parallel, _mm_set1_ps(-INFINITY), nearT);
+    farT = select(r.parallel, _mm_set1_ps(INFINITY), farT);
     nearT = _mm_max_ps(nearT, _mm_shuffle_ps(nearT, nearT, _MM_SHUFFLE(2, 3, 0, 1)));
     nearT = _mm_max_ps(nearT, _mm_shuffle_ps(nearT, nearT, _MM_SHUFFLE(1, 0, 3, 2)));
     farT = _mm_min_ps(farT, _mm_shuffle_ps(farT, farT, _MM_SHUFFLE(2, 3, 0, 1)));

@@ -53,11 +53,7 @@ inline LeafOutcome testTriangleListBatched(const ArraySpan<uint32_t>& list, uint
                 hit = rangeHit(b.tScaled[j], b.det[j], b.tHit[j], q.ray.tmin, best.t);
             else if (b.verdict[j] == LaneVerdict::Scalar)
                 hit = intersectTriangle(q.sheared, *tri[j], q.ray.tmin, best.t, t);
-            if (hit && (best.prim < 0 || t < best.t ||
-                        (t == best.t && static_cast<int32_t>(id[j]) < best.prim))) {
-                best.t = t;
-                best.prim = static_cast<int32_t>(id[j]);
-            }
+            if (hit) keepNearer(best, t, id[j]);
             if (kAnyHit && best.prim >= 0) return LeafOutcome::Found;
         }
         if (valid < n) return LeafOutcome::Fault;
