@@ -75,7 +75,7 @@ if(OCT_PAGE_KERNEL)
   file(CREATE_LINK ${OCT_JSON_INCLUDE}/nlohmann ${kernel_dir}/include/nlohmann SYMBOLIC)
   set(kernel_sources
       teach/wasm/page_kernel.cpp teach/explain.cpp teach/explain_page_data.cpp
-      teach/colour_map.cpp teach/svg_view.cpp teach/svg.cpp core/octree/builder.cpp core/octree/built_scene.cpp
+      teach/colour_map.cpp teach/svg_view.cpp teach/svg.cpp core/octree/builder.cpp core/octree/edge_bound.cpp core/octree/built_scene.cpp
       core/octree/compact_layout.cpp core/octree/exhaustive_layout.cpp
       core/octree/hash_layout.cpp core/octree/layout.cpp core/octree/layout_registry.cpp
       core/octree/linear_layout.cpp core/render/film.cpp core/scene/scene.cpp

@@ -2,9 +2,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <string>
 
 #include "core/geometry/tri_box.h"
+#include "core/octree/edge_bound.h"
 #include "core/octree/morton.h"
 #include "core/octree/octree.h"
 #include "core/system/resources.h"
@@ -132,6 +135,36 @@ uint64_t checkNextLevel(const Scene& scene, const BuildParams& params, uint64_t 
     return left.bytes - bytes;
 }
 
+std::string pointText(Vec3 p) {
+    char s[96];
+    std::snprintf(s, sizeof s, "(%g, %g, %g)", double(p.x), double(p.y), double(p.z));
+    return s;
+}
+
+// Before building: an edge that more than maxPrims triangles share is split along down to the
+// deepest level the build may make (edge_bound.h). Where the cells along it alone pass what the
+// layouts can store or the node budget, the build is refused at once, with the same reason the
+// level-by-level check would give after building most of the tree (27-33 s for one quad).
+void refuseSharedEdgesPastLimits(const Scene& scene, const Aabb& root, const BuildParams& params,
+                                 int effectiveMaxDepth) {
+    const int splitDepth = std::min(effectiveMaxDepth, params.storableDepth);
+    const uint64_t limit = std::min(params.maxNodes, params.storableNodes);
+    const std::optional<SharedEdgeBound> found =
+        sharedEdgePastLimit(scene, root, params.maxPrims, splitDepth, limit);
+    if (!found) return;
+    const std::string why =
+        "the " + std::to_string(found->edge.triangles) + " triangles sharing the edge " +
+        pointText(found->edge.a) + "-" + pointText(found->edge.b) + " (more than --max-prims " +
+        std::to_string(params.maxPrims) + ") split every cell along it down to depth " +
+        std::to_string(splitDepth) + ", " + std::to_string(found->nodes) +
+        " nodes or more, counted before building";
+    if (params.storableNodes < params.maxNodes)
+        throw OctreeError("octree of '" + scene.name + "': " + why + ": " + params.nodeLimit);
+    throw OctreeError("octree of '" + scene.name + "' needs more than " +
+                      std::to_string(params.maxNodes) + " nodes (the node budget): " + why +
+                      ": lower --max-depth, raise --max-prims, or raise --node-budget");
+}
+
 void checkParams(const Scene& scene, const BuildParams& params) {
     if (params.maxDepth < 0 || params.maxDepth > kMaxOctreeDepth)
         throw OctreeError("--max-depth " + std::to_string(params.maxDepth) + " is outside [0, " +
@@ -204,6 +237,8 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
     // deeper would cut spheres in two, so the grid depth bounds the build.
     tree.effectiveMaxDepth =
         scene.gridDepth >= 0 ? std::min(params.maxDepth, scene.gridDepth) : params.maxDepth;
+
+    refuseSharedEdgesPastLimits(scene, tree.root, params, tree.effectiveMaxDepth);
 
     // Breadth-first over one level at a time, so the 8 children of each node are adjacent
     // and levels are contiguous.

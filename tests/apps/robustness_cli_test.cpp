@@ -20,6 +20,7 @@
 
 #include "core/geometry/numeric_range.h"
 #include "core/io/npy.h"
+#include "core/octree/octree_limits.h"
 #include "tests/cli_harness.h"
 #include "tests/paths.h"
 #include "validation/ambiguity_bound.h"
@@ -335,10 +336,13 @@ TEST_F(Robustness, OctreeNodesAreBoundedWhileBuilding) {
         EXPECT_NE(r.err.find(says), std::string::npos) << r.err;
 #if !defined(__SANITIZE_ADDRESS__)
     // Under a memory limit the default budget is not reached first: the memory check refuses.
+    // (The largest budget, 2^31 nodes, is above the cells along the diagonal, so the count
+    // before building does not refuse it.)
     RunOptions opt;
     opt.addressSpaceLimit = uint64_t(1) << 30;
     opt.timeoutSeconds = 60;
-    r = octtest::runOctrace({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1"},
+    r = octtest::runOctrace({"info", path("quad.obj"), "--max-depth", "21", "--max-prims", "1",
+                             "--node-budget", std::to_string(kMaxNodeBudget)},
                             root_->path() / "capture", opt);
     EXPECT_TRUE(isOneLineError(r));
     for (const char* says : {"nodes", "of memory", "ulimit -v", "--max-depth", "--max-prims"})
@@ -372,6 +376,20 @@ TEST_F(Robustness, ALayoutsBoundRefusesTheBuildAtTheFirstLevelPastIt) {
     refused(hash, {"the hash layout", "nodes", "--hash-budget", "--max-depth"});
     refused({"validate", path("quad.obj"), "--size", "8x8", "--rays", "10"},
             {"depth 9", "--linear-budget", "--max-depth"});
+    // The node budget, where no layout's bound is the tighter (hash and compact at their
+    // defaults, and `info`): the cells along the shared diagonal alone pass 2^25 nodes, which is
+    // counted before building (the level-by-level check refused it only at depth 20, after
+    // 27-33 s).
+    const std::vector<const char*> budget = {"more than 33554432 nodes (the node budget)",
+                                             "the edge (0, 0, 0)-(1, 1, 0)",
+                                             "counted before building",
+                                             "--node-budget",
+                                             "--max-depth",
+                                             "--max-prims"};
+    std::vector<std::string> compact = render;
+    compact.insert(compact.end(), {"--accel", "compact"});
+    refused(compact, budget);
+    refused({"info", path("quad.obj")}, budget);
 }
 
 // `--threads 4096` under a memory limit ended in libgomp's "Thread creation failed" (an abort,
