@@ -6,6 +6,10 @@
 #include <optional>
 #include <string>
 
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
 #include "core/geometry/tri_box.h"
 #include "core/octree/edge_bound.h"
 #include "core/octree/morton.h"
@@ -27,17 +31,131 @@ struct PendingNode {
     std::vector<uint32_t> prims;  // primitives overlapping this node, ascending
 };
 
-bool primOverlaps(const Scene& scene, uint32_t prim, const Aabb& box) {
-    return scene.kind == PrimKind::Triangles ? builderTriangleOverlaps(scene.triangles[prim], box)
-                                             : builderSphereOverlaps(scene.spheres[prim], box);
+// The box the builder's triangle test sees: centre and half-size in double, the half-size
+// widened by kOverlapPad (builderTriangleOverlaps). Made once per cell, not once per triangle.
+struct PaddedBox {
+    DVec3 c, h;
+};
+
+PaddedBox paddedBox(const Aabb& box) {
+    // Centre and half-size in double: a float centre can be off by half an ulp, which moves the
+    // box and loses a triangle lying exactly in a face (spider.obj lost 42 references so).
+    DVec3 lo = toDouble(box.lo), hi = toDouble(box.hi);
+    DVec3 c = {(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5};
+    DVec3 h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
+    double pad = kOverlapPad * std::max({h.x, h.y, h.z});
+    return {c, {h.x + pad, h.y + pad, h.z + pad}};
 }
 
-std::vector<uint32_t> overlapping(const Scene& scene, const std::vector<uint32_t>& prims,
-                                  const Aabb& box) {
-    std::vector<uint32_t> out;
-    for (uint32_t p : prims)
-        if (primOverlaps(scene, p, box)) out.push_back(p);
+bool triangleOverlapsPadded(const Triangle& tri, const PaddedBox& b) {
+    // A vertex in the closed box is a shared point: overlap, without the 13 axes. Most pairs a
+    // split tests that are not rejected by the bounding boxes are of this kind (a triangle is
+    // small against its cell). The difference to the centre is formed as triBoxOverlap forms it.
+    for (const Vec3& v : {tri.v0, tri.v1, tri.v2})
+        if (std::fabs(double(v.x) - b.c.x) <= b.h.x && std::fabs(double(v.y) - b.c.y) <= b.h.y &&
+            std::fabs(double(v.z) - b.c.z) <= b.h.z)
+            return true;
+    return triBoxOverlap(b.c, b.h, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2));
+}
+
+// Axes 1-3 of triBoxOverlap alone, on the triangle's float bounds: min over the vertices of
+// (v - c) is (min v) - c, as rounding is monotone, so this rejects exactly the pairs those axes
+// reject, and a vertex in the box would have passed them. A miss here is a miss of the whole
+// test; most of a parent's triangles miss most of its 8 children so.
+bool boundsMiss(const Aabb& t, const PaddedBox& b) {
+    return double(t.lo.x) - b.c.x > b.h.x || double(t.hi.x) - b.c.x < -b.h.x ||
+           double(t.lo.y) - b.c.y > b.h.y || double(t.hi.y) - b.c.y < -b.h.y ||
+           double(t.lo.z) - b.c.z > b.h.z || double(t.hi.z) - b.c.z < -b.h.z;
+}
+
+// The children on the upper half of axis k (bit k of the child index set, as childBox reads it).
+int threadsAvailable() {
+#if defined(_OPENMP)
+    return omp_get_max_threads();
+#else
+    return 1;  // the explain page's build (WebAssembly) has no OpenMP
+#endif
+}
+
+constexpr unsigned kUpperHalf[3] = {0xaau, 0xccu, 0xf0u};
+
+// Each triangle's float bounds, for boundsMiss (empty for spheres).
+std::vector<Aabb> triangleBounds(const Scene& scene) {
+    std::vector<Aabb> out(scene.kind == PrimKind::Triangles ? scene.triangles.size() : 0);
+#pragma omp parallel for schedule(static) if (out.size() > 4096)
+    for (int64_t i = 0; i < int64_t(out.size()); ++i) {
+        const Triangle& t = scene.triangles[size_t(i)];
+        Aabb b = {t.v0, t.v0};
+        grow(b, t.v1);
+        grow(b, t.v2);
+        out[size_t(i)] = b;
+    }
     return out;
+}
+
+// The primitives of `prims` the builder lists in `box`, ascending as given.
+std::vector<uint32_t> overlapping(const Scene& scene, const std::vector<Aabb>& bounds,
+                                  const std::vector<uint32_t>& prims, const Aabb& box) {
+    std::vector<uint32_t> out;
+    if (scene.kind != PrimKind::Triangles) {
+        for (uint32_t p : prims)
+            if (builderSphereOverlaps(scene.spheres[p], box)) out.push_back(p);
+        return out;
+    }
+    const PaddedBox b = paddedBox(box);
+    for (uint32_t p : prims)
+        if (!boundsMiss(bounds[p], b) && triangleOverlapsPadded(scene.triangles[p], b))
+            out.push_back(p);
+    return out;
+}
+
+// The 8 children's lists in one pass over the parent's primitives. Per axis, which halves the
+// triangle's bounds can reach, by boundsMiss's comparisons with the widest pad of the children
+// on that half (so no child is passed over that its own test would accept); then each child so
+// reached decides by its own boundsMiss and full test. The lists are those of `overlapping`,
+// child by child; a triangle small against the cell reaches one child instead of being tested
+// against all 8.
+void listChildren(const Scene& scene, const std::vector<Aabb>& bounds, const PendingNode& p,
+                  PendingNode* kids) {
+    Aabb box[8];
+    for (int i = 0; i < 8; ++i) box[i] = childBox(p.box, i);
+    if (scene.kind != PrimKind::Triangles) {
+        for (int i = 0; i < 8; ++i) kids[i].prims = overlapping(scene, bounds, p.prims, box[i]);
+        return;
+    }
+    PaddedBox pb[8];
+    for (int i = 0; i < 8; ++i) pb[i] = paddedBox(box[i]);
+    // Half `side` of axis k: its centre (the same for the 4 children there) and widest half-size.
+    double c[3][2], h[3][2];
+    for (int k = 0; k < 3; ++k)
+        for (int side = 0; side < 2; ++side) {
+            c[k][side] = k == 0 ? pb[side].c.x : (k == 1 ? pb[side << 1].c.y : pb[side << 2].c.z);
+            h[k][side] = 0.0;
+            for (int i = 0; i < 8; ++i) {
+                if (((i >> k) & 1) != side) continue;
+                const double hk = k == 0 ? pb[i].h.x : (k == 1 ? pb[i].h.y : pb[i].h.z);
+                h[k][side] = std::max(h[k][side], hk);
+            }
+        }
+    // Gathered in this thread's buffers, then copied once at their size: a list grown in place
+    // reallocates and copies some log2(size) times.
+    thread_local std::array<std::vector<uint32_t>, 8> found;
+    for (std::vector<uint32_t>& f : found) f.clear();
+    for (uint32_t prim : p.prims) {
+        const Aabb& t = bounds[prim];
+        const double lo[3] = {t.lo.x, t.lo.y, t.lo.z}, hi[3] = {t.hi.x, t.hi.y, t.hi.z};
+        unsigned reach = 0xffu;  // bit i: child i may overlap
+        for (int k = 0; k < 3; ++k)
+            for (int side = 0; side < 2; ++side)
+                if (lo[k] - c[k][side] > h[k][side] || hi[k] - c[k][side] < -h[k][side])
+                    reach &= side ? ~kUpperHalf[k] : kUpperHalf[k];
+        for (; reach != 0; reach &= reach - 1) {
+            const int i = __builtin_ctz(reach);
+            if (!boundsMiss(t, pb[i]) && triangleOverlapsPadded(scene.triangles[prim], pb[i]))
+                found[i].push_back(prim);
+        }
+    }
+    for (int i = 0; i < 8; ++i) kids[i].prims.assign(found[i].begin(), found[i].end());
 }
 
 bool sameTriangle(const Triangle& a, const Triangle& b) {
@@ -93,8 +211,8 @@ OctreeNode makeNode(const PendingNode& p, NodeType type) {
 }
 
 // What one more node of the next level costs while that level is built, for the memory check:
-// its pending record (PendingNode, in an array reserved once) and the heap block of its list
-// (at least 32 bytes). Its slot in its parent's children is counted with the parent.
+// its pending record (PendingNode, in the next level's array, made once at its size, into which
+// its parent's split writes its list) and the heap block of that list (at least 32 bytes).
 constexpr uint64_t kBuildBytesPerNode = sizeof(PendingNode) + 32;
 // A reference in a child's list: the list grows by doubling, so up to twice its size.
 constexpr uint64_t kBuildBytesPerReference = 2 * sizeof(uint32_t);
@@ -179,21 +297,7 @@ void checkParams(const Scene& scene, const BuildParams& params) {
 }  // namespace
 
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
-    // Centre and half-size in double: a float centre can be off by half an ulp, which moves the
-    // box and loses a triangle lying exactly in a face (spider.obj lost 42 references so).
-    DVec3 lo = toDouble(box.lo), hi = toDouble(box.hi);
-    DVec3 c = {(lo.x + hi.x) * 0.5, (lo.y + hi.y) * 0.5, (lo.z + hi.z) * 0.5};
-    DVec3 h = {(hi.x - lo.x) * 0.5, (hi.y - lo.y) * 0.5, (hi.z - lo.z) * 0.5};
-    double pad = kOverlapPad * std::max({h.x, h.y, h.z});
-    h = {h.x + pad, h.y + pad, h.z + pad};
-    // A vertex in the closed box is a shared point: overlap, without the 13 axes. Most pairs a
-    // split tests that are not rejected by the bounding boxes are of this kind (a triangle is
-    // small against its cell). The difference to the centre is formed as triBoxOverlap forms it.
-    for (const Vec3& v : {tri.v0, tri.v1, tri.v2})
-        if (std::fabs(double(v.x) - c.x) <= h.x && std::fabs(double(v.y) - c.y) <= h.y &&
-            std::fabs(double(v.z) - c.z) <= h.z)
-            return true;
-    return triBoxOverlap(c, h, toDouble(tri.v0), toDouble(tri.v1), toDouble(tri.v2));
+    return triangleOverlapsPadded(tri, paddedBox(box));
 }
 
 double sphereCentreBoxDistanceSq(const Sphere& s, const Aabb& box) {
@@ -246,12 +350,14 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
     level[0] = {kRootKey, tree.root, 0, {}};
     level[0].prims.resize(tree.primitiveCount);
     for (uint32_t i = 0; i < tree.primitiveCount; ++i) level[0].prims[i] = i;
-    level[0].prims = overlapping(scene, level[0].prims, tree.root);
+    const std::vector<Aabb> bounds = triangleBounds(scene);
+    level[0].prims = overlapping(scene, bounds, level[0].prims, tree.root);
 
     while (!level.empty()) {
         // Phase 1, in parallel (OpenMP, dynamic: costs differ by orders of magnitude): which
-        // nodes split, then every child's list, one (node, octant) pair per iteration so the
-        // first levels (1 and 8 nodes holding every primitive) use every thread too. Each list
+        // nodes split, then every child's list: one (node, octant) pair per iteration while the
+        // level is small, so the first levels (1 and 8 nodes holding every primitive) use every
+        // thread too, then a node's 8 lists per iteration (listChildren). Each list
         // reads only the scene and its parent's list, so the tree does not depend on the thread
         // count. The reference cap is checked on a shared running total, as the serial build
         // did child by child: the build is refused iff the level's total passes the cap.
@@ -266,40 +372,56 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
         }
         // The next level's nodes against the node budget and the memory left, before any of
         // its lists is made; then its references against what memory remains, as they grow.
+        // A split node's children are next[firstKid[n] .. + 8): phase 1 writes their lists
+        // there directly, phase 2 the rest of each record.
         uint64_t splitCount = 0, leafRefs = 0;
+        std::vector<uint64_t> firstKid(level.size(), 0);
         for (size_t n = 0; n < level.size(); ++n) {
+            firstKid[n] = 8 * splitCount;
             splitCount += splits[n];
             if (!splits[n]) leafRefs += level[n].prims.size();
         }
         const int nextDepth = level[0].depth + 1;
         const uint64_t stored = tree.nodes.size() + level.size();
-        using ChildLists = std::array<std::vector<uint32_t>, 8>;
         const uint64_t storeBytes =
             growthBytes(tree.nodes, stored) + growthBytes(tree.firstChild, stored) +
-            growthBytes(tree.primIndices, tree.primIndices.size() + leafRefs) +
-            level.size() * sizeof(ChildLists);
+            growthBytes(tree.primIndices, tree.primIndices.size() + leafRefs);
         const MemoryLimit left = splitCount > 0 ? memoryLimit() : MemoryLimit{};
         const uint64_t bytesLeft = splitCount == 0
                                        ? 0
                                        : checkNextLevel(scene, params, stored, 8 * splitCount,
                                                         nextDepth, storeBytes, left);
         const uint64_t refsFit = bytesLeft / kBuildBytesPerReference;
-        std::vector<ChildLists> kids(level.size());
+        // Its size is known: no growth copy (the check counted its records).
+        std::vector<PendingNode> next(8 * splitCount);
         const uint64_t cap = params.maxReferences, storedRefs = tree.primIndices.size();
         uint64_t pendingRefs = 0;
         bool overCap = false, overMemory = false;
+        // Fewer nodes than two a thread (the root, on a few cores): one job per (node, octant),
+        // so every thread has work; else one per node, whose 8 lists share one pass.
+        const bool perOctant = count < 2 * threadsAvailable();
+        const int64_t jobs = perOctant ? 8 * count : count;
 #pragma omp parallel for schedule(dynamic, 1)
-        for (int64_t job = 0; job < 8 * count; ++job) {
-            const size_t n = size_t(job / 8), i = size_t(job % 8);
+        for (int64_t job = 0; job < jobs; ++job) {
+            const size_t n = size_t(perOctant ? job / 8 : job);
             bool over;
 #pragma omp atomic read
             over = overCap;
             if (!splits[n] || over) continue;
             const PendingNode& p = level[n];
-            kids[n][i] = overlapping(scene, p.prims, childBox(p.box, int(i)));
+            uint64_t made = 0;
+            PendingNode* kids = &next[firstKid[n]];
+            if (perOctant) {
+                const size_t i = size_t(job % 8);
+                kids[i].prims = overlapping(scene, bounds, p.prims, childBox(p.box, int(i)));
+                made = kids[i].prims.size();
+            } else {
+                listChildren(scene, bounds, p, kids);
+                for (int i = 0; i < 8; ++i) made += kids[i].prims.size();
+            }
             uint64_t total;
 #pragma omp atomic capture
-            total = pendingRefs += kids[n][i].size();
+            total = pendingRefs += made;
             // Large primitives replicate into most nodes: refuse before memory runs out.
             if (total + storedRefs > cap || total > refsFit) {
                 if (total > refsFit) {
@@ -323,16 +445,17 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
                               " MiB): lower --max-depth or raise --max-prims");
 
         // Phase 2, in order: records, leaf lists and the next level, breadth first.
-        std::vector<PendingNode> next;
-        next.reserve(8 * splitCount);  // its size is known: no growth copy (the check counted it)
         for (size_t n = 0; n < level.size(); ++n) {
             PendingNode& p = level[n];
             if (splits[n]) {
                 tree.nodes.push_back(makeNode(p, NodeType::Internal));
                 tree.firstChild.push_back(0);  // patched below, once the level's size is known
-                for (int i = 0; i < 8; ++i)
-                    next.push_back({childKey(p.key, i), childBox(p.box, i), p.depth + 1,
-                                    std::move(kids[n][size_t(i)])});
+                for (int i = 0; i < 8; ++i) {
+                    PendingNode& kid = next[firstKid[n] + size_t(i)];
+                    kid.key = childKey(p.key, i);
+                    kid.box = childBox(p.box, i);
+                    kid.depth = p.depth + 1;
+                }
             } else {
                 NodeType type = p.prims.empty() ? NodeType::EmptyLeaf : NodeType::Leaf;
                 OctreeNode nd = makeNode(p, type);

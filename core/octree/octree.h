@@ -33,7 +33,8 @@ struct BuildParams {
     // building the level that would pass it, and also where that level's memory is more than
     // the machine has left (core/system/resources.h). Primitives that no split separates, such
     // as two triangles sharing an edge under --max-prims 1, split every cell along the edge
-    // down to maxDepth, doubling the cells each level: 100 M nodes at depth 21.
+    // down to maxDepth, doubling the cells each level: 100 M nodes at depth 21. Those cells are
+    // counted before the build (edge_bound.h), which refuses at once where they alone pass it.
     uint64_t maxNodes = kDefaultNodeBudget;
     // What the layouts the tree is built for can store (LayoutDesc::limitBuild), so that the
     // build refuses the first level past it before making that level, instead of building a
