@@ -35,7 +35,8 @@ std::vector<const LayoutDesc*> defaultLayouts() {
 }
 
 // Without --backend: the host kernel, every backend with its own structure (Embree, robust and
-// fast: the peers the figures are compared with), and an accelerator when one answers.
+// fast, and the scalar binary BVH: the peers the figures are compared with), and an
+// accelerator when one answers.
 std::vector<const BackendDesc*> defaultBackends(std::vector<std::string>& notes) {
     std::vector<const BackendDesc*> out = {&hostBackend()};
     for (const BackendDesc& b : backends()) {
@@ -47,6 +48,21 @@ std::vector<const BackendDesc*> defaultBackends(std::vector<std::string>& notes)
             notes.push_back(std::string(b.name) + " left out: " + why);
     }
     return out;
+}
+
+// Without --backend, a point cloud's cases leave out the backends that hold triangles only
+// (BackendDesc::trianglesOnly), each named in `notes`: they would refuse the scene.
+void dropTriangleOnlyBackends(const Scene& scene, std::vector<const BackendDesc*>& list,
+                              std::vector<std::string>& notes) {
+    if (scene.kind == PrimKind::Triangles) return;
+    std::vector<const BackendDesc*> kept;
+    for (const BackendDesc* b : list) {
+        if (b->trianglesOnly)
+            notes.push_back(std::string(b->name) + " left out: it traces triangle meshes only");
+        else
+            kept.push_back(b);
+    }
+    list = kept;
 }
 
 std::string shellWord(const std::string& s) {
@@ -158,7 +174,6 @@ void runRayBenchCommand(const BenchOptions& o, const CLI::App& cmd) {
     checkOutputPaths({jsonOut, csvOut}, {o.rays, o.scene});
     checkWritable(jsonOut);
     setCpuThreadsFromOption(o.trace.threads);
-    const json config = configJson(o, cmd, ro);
 
     RayBenchResult r;
     auto t0 = std::chrono::steady_clock::now();
@@ -187,6 +202,8 @@ void runRayBenchCommand(const BenchOptions& o, const CLI::App& cmd) {
         throw SceneError(std::string("--scene: ") + e.what());
     }
     r.loadSeconds = secondsSince(t0);
+    if (!cmd.count("--backend")) dropTriangleOnlyBackends(scene, ro.backends, notes);
+    const json config = configJson(o, cmd, ro);
 
     json machine = machineJson(deviceName);
     for (const std::string& n : notes) std::fprintf(stderr, "bench: %s\n", n.c_str());

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "cpu_ref/bvh_backend.h"
 #include "cpu_ref/cpu_backend.h"
 #include "cpu_ref/embree_backend.h"
 #include "cpu_ref/embree_fast_backend.h"
@@ -15,9 +16,7 @@ namespace oct {
 
 const std::vector<BackendDesc>& backends() {
     static const std::vector<BackendDesc> all = {
-        cpuBackend(),
-        embreeBackend(),
-        embreeFastBackend(),
+        cpuBackend(),  embreeBackend(), embreeFastBackend(), bvhBackend(),
 #ifdef OCT_HAVE_CUDA
         cudaBackend(),
 #endif

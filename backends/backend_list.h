@@ -1,6 +1,6 @@
-// The one list of backends: every launcher this build has (cpu_ref/: OpenMP, Embree; gpu/:
-// CUDA), behind the interface of core/backend/backend.h. render, trace, validate, bench and the
-// regression checks choose a launcher only through this list.
+// The one list of backends: every launcher this build has (cpu_ref/: OpenMP, Embree, the
+// scalar binary BVH; gpu/: CUDA), behind the interface of core/backend/backend.h. render, trace,
+// validate, bench and the regression checks choose a launcher only through this list.
 #pragma once
 
 #include <string>
@@ -12,7 +12,7 @@ namespace oct {
 
 // Every backend this build has, in list order.
 const std::vector<BackendDesc>& backends();
-// "cpu, embree, embree-fast, cuda" (those this build has).
+// "cpu, embree, embree-fast, bvh, cuda" (those this build has).
 std::string backendNames();
 // The backend called `name` in this build's list, or null.
 const BackendDesc* findBackend(const std::string& name);

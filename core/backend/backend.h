@@ -44,6 +44,10 @@ struct BackendDesc {
     // True for the ground truth every check compares with (Embree, robust mode): exactly one
     // backend of the list.
     bool reference = false;
+    // True for a backend whose structure holds triangles only (the scalar binary BVH): its
+    // prepare refuses a point cloud with one line, and bench --rays leaves it out of its
+    // default cases on one.
+    bool trianglesOnly = false;
     // True when it can run here; otherwise `why` says why not in one line. Never throws.
     bool (*available)(std::string& why) = nullptr;
     // Prepares the backend for `scene` (which must outlive the tracer).

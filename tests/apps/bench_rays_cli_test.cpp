@@ -152,7 +152,7 @@ TEST_F(RayBenchRun, EveryLayoutAndEmbreeIsARowAndTheLayoutsAgree) {
 }
 
 // Without --accel and --backend: the layouts with an octree on the host kernel, and every
-// backend with its own structure (Embree, robust and fast).
+// backend with its own structure (Embree, robust and fast; the scalar binary BVH).
 TEST_F(RayBenchRun, DefaultCasesAreTheOctreeLayoutsAndEmbree) {
     makeRays();
     const octtest::RunResult r = run(bench({"--rounds", "1", "--warmup", "0"}));
@@ -177,6 +177,37 @@ TEST_F(RayBenchRun, DefaultCasesAreTheOctreeLayoutsAndEmbree) {
     EXPECT_NE(command.find("--accel "), std::string::npos) << command;
     EXPECT_NE(command.find("--backend "), std::string::npos) << command;
     EXPECT_NE(r.out.find(command), std::string::npos) << r.out;
+}
+
+// On a point cloud the defaults leave out each backend that holds triangles only (the binary
+// BVH), saying so; named with --backend, it refuses the cloud with one line naming it.
+TEST_F(RayBenchRun, APointCloudLeavesOutTheTriangleOnlyBackends) {
+    const std::string cloud = "grid:2000:3";
+    octtest::RunResult r =
+        run({"rays", cloud, "--count", "300", "--size", "8x8", "--out", path("C.npy")});
+    ASSERT_EQ(r.status, 0) << octtest::show(r);
+    std::vector<std::string> args = {"bench",    "--rays", path("C.npy"), "--scene",
+                                     cloud,      "--out",  path("out"),   "--no-progress",
+                                     "--rounds", "1",      "--warmup",    "0"};
+    r = run(args);
+    ASSERT_EQ(r.status, 0) << octtest::show(r);
+    size_t triangleOnly = 0;
+    for (const oct::BackendDesc& b : oct::backends()) {
+        if (!b.trianglesOnly) continue;
+        ++triangleOnly;
+        EXPECT_FALSE(hasRow(r.out, b.structure, b.name)) << b.name << "\n" << r.out;
+        EXPECT_NE(r.err.find(std::string(b.name) + " left out: it traces triangle meshes only"),
+                  std::string::npos)
+            << octtest::show(r);
+        args.insert(args.end(), {"--backend", b.name});
+        const octtest::RunResult named = run(args);
+        EXPECT_TRUE(octtest::isOneLineError(named)) << octtest::show(named);
+        EXPECT_NE(named.err.find("point cloud"), std::string::npos) << octtest::show(named);
+        args.resize(args.size() - 2);
+    }
+    EXPECT_GT(triangleOnly, 0u) << "no backend of the list holds triangles only";
+    EXPECT_TRUE(hasRow(r.out, oct::referenceBackend().structure, oct::referenceBackend().name))
+        << r.out;
 }
 
 TEST_F(RayBenchRun, BadInputsAreRefusedWithOneLine) {
