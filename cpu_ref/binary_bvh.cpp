@@ -49,14 +49,6 @@ Aabb padded(const Aabb& b) {
     return {b.lo - makeVec3(pad), b.hi + makeVec3(pad)};
 }
 
-Aabb triangleBox(const Triangle& t) {
-    Aabb b = emptyAabb();
-    grow(b, t.v0);
-    grow(b, t.v1);
-    grow(b, t.v2);
-    return b;
-}
-
 // The bin of a centroid along `axis`: the same float operations for the binning and for the
 // partition that follows, so a triangle goes to the side its bin was counted on.
 struct Binning {
@@ -88,7 +80,7 @@ public:
         centroids_.reserve(tris.size());
         order_.reserve(tris.size());
         for (uint32_t i = 0; i < tris.size(); ++i) {
-            boxes_.push_back(triangleBox(tris[i]));
+            boxes_.push_back(boundsOf(tris[i]));
             centroids_.push_back(boxes_.back().center());
             order_.push_back(i);
         }

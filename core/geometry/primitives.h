@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "core/geometry/aabb.h"
 #include "core/geometry/vec3.h"
 #include "core/geometry/vec3t.h"
 
@@ -16,6 +17,15 @@ struct Triangle {
     Vec3 v0, v1, v2;  // 36 bytes
 };
 static_assert(sizeof(Triangle) == 36, "Triangle is three packed vertices");
+
+// The triangle's box: the float bounds of its vertices (host code: the builder, the BVH).
+inline Aabb boundsOf(const Triangle& t) {
+    Aabb b = emptyAabb();
+    grow(b, t.v0);
+    grow(b, t.v1);
+    grow(b, t.v2);
+    return b;
+}
 
 struct Sphere {
     Vec3 center;   // 12 bytes

@@ -84,11 +84,7 @@ std::vector<Aabb> triangleBounds(const Scene& scene) {
     std::vector<Aabb> out(scene.kind == PrimKind::Triangles ? scene.triangles.size() : 0);
 #pragma omp parallel for schedule(static) if (out.size() > 4096)
     for (int64_t i = 0; i < int64_t(out.size()); ++i) {
-        const Triangle& t = scene.triangles[size_t(i)];
-        Aabb b = {t.v0, t.v0};
-        grow(b, t.v1);
-        grow(b, t.v2);
-        out[size_t(i)] = b;
+        out[size_t(i)] = boundsOf(scene.triangles[size_t(i)]);
     }
     return out;
 }

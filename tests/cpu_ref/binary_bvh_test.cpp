@@ -24,14 +24,6 @@ bool inside(const Aabb& inner, const Aabb& outer) {
            inner.hi.x <= outer.hi.x && inner.hi.y <= outer.hi.y && inner.hi.z <= outer.hi.z;
 }
 
-Aabb boxOf(const Triangle& t) {
-    Aabb b = emptyAabb();
-    grow(b, t.v0);
-    grow(b, t.v1);
-    grow(b, t.v2);
-    return b;
-}
-
 // Walks the tree checking each node against its parent and each leaf's triangles.
 void expectWellFormed(const Scene& scene, const BinaryBvh& bvh) {
     const std::vector<BvhNode>& nodes = bvh.nodes();
@@ -51,7 +43,7 @@ void expectWellFormed(const Scene& scene, const BinaryBvh& bvh) {
             for (uint32_t k = n.index; k < n.index + n.count; ++k) {
                 ASSERT_LT(v.ids[k], scene.triangles.size());
                 ++seen[v.ids[k]];
-                EXPECT_TRUE(inside(boxOf(v.tris[k]), n.box)) << "leaf " << at;
+                EXPECT_TRUE(inside(boundsOf(v.tris[k]), n.box)) << "leaf " << at;
                 EXPECT_EQ(std::memcmp(&v.tris[k], &scene.triangles[v.ids[k]], sizeof(Triangle)), 0);
             }
             continue;

@@ -24,6 +24,7 @@
 #include "core/render/frame.h"
 #include "core/scene/grid_cloud.h"
 #include "core/scene/load_scene.h"
+#include "tests/cpu_ref/standard_rays.h"
 #include "tests/paths.h"
 #include "validation/rays/ray_sets.h"
 
@@ -36,28 +37,16 @@ const BackendDesc& bvh() {
     return b ? *b : hostBackend();
 }
 
-struct Hits {
-    std::vector<float> t;
-    std::vector<int32_t> prim;
-};
-
-Hits traceWithTracer(SceneTracer& tracer, const std::vector<float>& rays) {
-    Hits h;
-    const uint64_t n = rays.size() / 8;
-    h.t.resize(n);
-    h.prim.resize(n);
-    tracer.trace({rays.data(), h.t.data(), h.prim.data(), n});
-    return h;
-}
+using Hits = octtest::TracedHits;
 
 Hits traceBvh(const Scene& scene, const std::vector<float>& rays) {
     const BuiltScene bare = bareScene(scene);
-    return traceWithTracer(*bvh().prepare(bare), rays);
+    return octtest::traceAll(*bvh().prepare(bare), rays);
 }
 
 Hits traceOctree(const Scene& scene, const LayoutDesc& layout, const std::vector<float>& rays) {
     const BuiltScene built = buildScene(scene, layout, LayoutOptions{});
-    return traceWithTracer(*hostBackend().prepare(built), rays);
+    return octtest::traceAll(*hostBackend().prepare(built), rays);
 }
 
 uint32_t bitsOf(float v) {
@@ -199,23 +188,6 @@ std::vector<float> rangeEndRays(const std::vector<float>& rays, const Hits& hits
     return out;
 }
 
-// Every standard set the scene can make (the shadow set's camera hits from the host kernel).
-std::vector<float> standardRays(const Scene& scene) {
-    RaySetSpec spec;
-    for (const RaySetDesc& k : standardRaySets())
-        if (raySetMisfit(k, scene).empty()) spec.sets.push_back(&k);
-    const std::vector<std::string> why = raySetsUnavailable(scene, spec.sets);
-    std::vector<const RaySetDesc*> usable;
-    for (size_t i = 0; i < spec.sets.size(); ++i)
-        if (why[i].empty()) usable.push_back(spec.sets[i]);
-    spec.sets = usable;
-    spec.count = 3000;
-    spec.camera.width = spec.camera.height = 64;
-    const BuiltScene built = buildScene(scene, findLayout("compact"), LayoutOptions{});
-    const std::unique_ptr<SceneTracer> host = hostBackend().prepare(built);
-    return makeRaySet(scene, spec, [&](RayBatchView b) { host->trace(b); }).rays;
-}
-
 // Every octree layout's answers against the BVH's on `rays`: the same t and primitive to the
 // bit, or a disagreement of one of Disagreement's kinds, on at most `allowed` of the rows.
 void expectSameAsOctrees(const Scene& scene, const std::vector<float>& rays,
@@ -250,7 +222,7 @@ void expectSameAsOctrees(const Scene& scene, const std::vector<float>& rays,
 }
 
 void expectSameAnswersOn(const Scene& scene, const std::string& name) {
-    const std::vector<float> standard = standardRays(scene);
+    const std::vector<float> standard = octtest::standardRays(scene);
     expectSameAsOctrees(scene, standard, name + ", the standard ray sets", kFewRows);
     const std::vector<float> axis = axisAndInsideRays(scene);
     expectSameAsOctrees(scene, axis, name + ", axis-parallel and inside rays", kFewRows);
@@ -258,7 +230,7 @@ void expectSameAnswersOn(const Scene& scene, const std::string& name) {
     const std::unique_ptr<SceneTracer> host = hostBackend().prepare(built);
     std::vector<float> both = standard;
     both.insert(both.end(), axis.begin(), axis.end());
-    const std::vector<float> ends = rangeEndRays(both, traceWithTracer(*host, both));
+    const std::vector<float> ends = rangeEndRays(both, octtest::traceAll(*host, both));
     expectSameAsOctrees(scene, ends, name + ", segments ending at a hit", kFewEndRows);
 }
 
@@ -290,7 +262,8 @@ TEST(BvhBackend, SameHitsOnTheBunnyWhenFetched) {
     const Scene scene = loadScene(path);
     expectSameAsOctrees(scene, axisAndInsideRays(scene), "bunny, axis-parallel and inside rays",
                         kFewRows);
-    expectSameAsOctrees(scene, standardRays(scene), "bunny, the standard ray sets", kFewRows);
+    expectSameAsOctrees(scene, octtest::standardRays(scene), "bunny, the standard ray sets",
+                        kFewRows);
 }
 
 // A frame through the BVH: camera rays by closestHit, shadow rays by anyHit, then Phong; every

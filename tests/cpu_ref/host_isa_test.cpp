@@ -17,6 +17,7 @@
 #include "core/scene/load_scene.h"
 #include "cpu_ref/bvh_backend.h"
 #include "cpu_ref/render_cpu.h"
+#include "tests/cpu_ref/standard_rays.h"
 #include "tests/paths.h"
 #include "validation/rays/ray_sets.h"
 
@@ -34,46 +35,20 @@ protected:
     HostIsa chosen_ = HostIsa::Baseline;
 };
 
-struct Answers {
-    std::vector<float> t;
-    std::vector<int32_t> prim;
-    bool operator==(const Answers& o) const {
-        return t.size() == o.t.size() &&
-               std::memcmp(t.data(), o.t.data(), t.size() * sizeof(float)) == 0 && prim == o.prim;
-    }
-};
-
-Answers traceUnder(HostIsa isa, SceneTracer& tracer, const std::vector<float>& rays) {
-    EXPECT_TRUE(setHostIsa(isa));
-    Answers a;
-    const uint64_t n = rays.size() / 8;
-    a.t.resize(n);
-    a.prim.resize(n);
-    tracer.trace({rays.data(), a.t.data(), a.prim.data(), n});
-    return a;
+bool sameBits(const octtest::TracedHits& a, const octtest::TracedHits& b) {
+    return a.t.size() == b.t.size() &&
+           std::memcmp(a.t.data(), b.t.data(), a.t.size() * sizeof(float)) == 0 && a.prim == b.prim;
 }
 
-// Every standard set the scene can make, a few thousand rows each.
-std::vector<float> raysFor(const Scene& scene) {
-    RaySetSpec spec;
-    for (const RaySetDesc& k : standardRaySets())
-        if (raySetMisfit(k, scene).empty()) spec.sets.push_back(&k);
-    const std::vector<std::string> why = raySetsUnavailable(scene, spec.sets);
-    std::vector<const RaySetDesc*> usable;
-    for (size_t i = 0; i < spec.sets.size(); ++i)
-        if (why[i].empty()) usable.push_back(spec.sets[i]);
-    spec.sets = usable;
-    spec.count = 3000;
-    spec.camera.width = spec.camera.height = 64;
-    const BuiltScene built = buildScene(scene, findLayout("compact"), LayoutOptions{});
-    const std::unique_ptr<SceneTracer> host = hostBackend().prepare(built);
-    return makeRaySet(scene, spec, [&](RayBatchView b) { host->trace(b); }).rays;
+octtest::TracedHits traceUnder(HostIsa isa, SceneTracer& tracer, const std::vector<float>& rays) {
+    EXPECT_TRUE(setHostIsa(isa));
+    return octtest::traceAll(tracer, rays);
 }
 
 TEST_F(CpuIsa, Avx2EqualsBaselineBitForBit) {
     for (const char* mesh : {"teapot.obj", "cornell_box.obj", "spider.obj"}) {
         const Scene scene = loadScene(octtest::meshPath(mesh));
-        const std::vector<float> rays = raysFor(scene);
+        const std::vector<float> rays = octtest::standardRays(scene);
         std::vector<std::pair<std::string, std::unique_ptr<SceneTracer>>> tracers;
         std::vector<BuiltScene> built;
         built.reserve(5);  // the tracers hold references into it: no reallocation
@@ -84,10 +59,10 @@ TEST_F(CpuIsa, Avx2EqualsBaselineBitForBit) {
         built.push_back(bareScene(scene));
         tracers.emplace_back("bvh", findBackend(bvhBackend().name)->prepare(built.back()));
         for (auto& [name, tracer] : tracers) {
-            const Answers base = traceUnder(HostIsa::Baseline, *tracer, rays);
-            const Answers avx2 = traceUnder(HostIsa::Avx2, *tracer, rays);
-            EXPECT_TRUE(base == avx2) << mesh << ", " << name << ": " << rays.size() / 8
-                                      << " rays answered differently under AVX2";
+            const octtest::TracedHits base = traceUnder(HostIsa::Baseline, *tracer, rays);
+            const octtest::TracedHits avx2 = traceUnder(HostIsa::Avx2, *tracer, rays);
+            EXPECT_TRUE(sameBits(base, avx2)) << mesh << ", " << name << ": " << rays.size() / 8
+                                              << " rays answered differently under AVX2";
         }
     }
 }
