@@ -105,6 +105,9 @@ std::vector<uint32_t> overlapping(const Scene& scene, const std::vector<Aabb>& b
     return out;
 }
 
+// The most entries a thread's list buffer keeps between nodes (4 MiB).
+constexpr size_t kKeptBufferEntries = size_t(1) << 20;
+
 // The 8 children's lists in one pass over the parent's primitives. Per axis, which halves the
 // triangle's bounds can reach, by boundsMiss's comparisons with the widest pad of the children
 // on that half (so no child is passed over that its own test would accept); then each child so
@@ -151,7 +154,11 @@ void listChildren(const Scene& scene, const std::vector<Aabb>& bounds, const Pen
                 found[i].push_back(prim);
         }
     }
-    for (int i = 0; i < 8; ++i) kids[i].prims.assign(found[i].begin(), found[i].end());
+    for (int i = 0; i < 8; ++i) {
+        kids[i].prims.assign(found[i].begin(), found[i].end());
+        // A thread keeps its buffers between nodes, but not a large one past the build.
+        if (found[i].capacity() > kKeptBufferEntries) std::vector<uint32_t>().swap(found[i]);
+    }
 }
 
 bool sameTriangle(const Triangle& a, const Triangle& b) {
