@@ -68,7 +68,6 @@ bool boundsMiss(const Aabb& t, const PaddedBox& b) {
            double(t.lo.z) - b.c.z > b.h.z || double(t.hi.z) - b.c.z < -b.h.z;
 }
 
-// The children on the upper half of axis k (bit k of the child index set, as childBox reads it).
 int threadsAvailable() {
 #if defined(_OPENMP)
     return omp_get_max_threads();
@@ -77,6 +76,7 @@ int threadsAvailable() {
 #endif
 }
 
+// The children on the upper half of axis k (bit k of the child index set, as childBox reads it).
 constexpr unsigned kUpperHalf[3] = {0xaau, 0xccu, 0xf0u};
 
 // Each triangle's float bounds, for boundsMiss (empty for spheres).
@@ -162,14 +162,7 @@ void listChildren(const Scene& scene, const std::vector<Aabb>& bounds, const Pen
 }
 
 bool sameTriangle(const Triangle& a, const Triangle& b) {
-    // The same three vertices in any order (a duplicated face, possibly flipped).
-    auto key = [](const Triangle& t) {
-        std::array<std::array<float, 3>, 3> v = {
-            {{t.v0.x, t.v0.y, t.v0.z}, {t.v1.x, t.v1.y, t.v1.z}, {t.v2.x, t.v2.y, t.v2.z}}};
-        std::sort(v.begin(), v.end());
-        return v;
-    };
-    return key(a) == key(b);
+    return sortedVertices(a) == sortedVertices(b);
 }
 
 // Beyond the paper: no split, at any depth, can separate the node's primitives when they are
@@ -234,6 +227,15 @@ std::string levelText(const Scene& scene, int depth, uint64_t nodes) {
            std::to_string(nodes) + " more nodes";
 }
 
+// "octree of 'quad.obj' needs more than N nodes (the node budget)" + where + the options that
+// shrink the tree: the node budget's refusal, level by level or counted before building.
+OctreeError nodeBudgetRefusal(const Scene& scene, const BuildParams& params,
+                              const std::string& where) {
+    return OctreeError("octree of '" + scene.name + "' needs more than " +
+                       std::to_string(params.maxNodes) + " nodes (the node budget)" + where +
+                       ": lower --max-depth, raise --max-prims, or raise --node-budget");
+}
+
 // Refuses the next level when the tree would pass the node budget with it, or when storing
 // this level (`storeBytes`) and making the next level's nodes need more memory than `left`;
 // returns the bytes left for the next level's references.
@@ -246,10 +248,9 @@ uint64_t checkNextLevel(const Scene& scene, const BuildParams& params, uint64_t 
         throw OctreeError(levelText(scene, nextDepth, nextNodes) + ", " +
                           std::to_string(nodes + nextNodes) + " with it): " + params.nodeLimit);
     if (nodes + nextNodes > params.maxNodes)
-        throw OctreeError("octree of '" + scene.name + "' needs more than " +
-                          std::to_string(params.maxNodes) + " nodes (the node budget) at depth " +
-                          std::to_string(nextDepth) + ", " + std::to_string(nodes + nextNodes) +
-                          " with it: lower --max-depth, raise --max-prims, or raise --node-budget");
+        throw nodeBudgetRefusal(scene, params,
+                                " at depth " + std::to_string(nextDepth) + ", " +
+                                    std::to_string(nodes + nextNodes) + " with it");
     const uint64_t bytes = storeBytes + nextNodes * kBuildBytesPerNode;
     checkMemory<OctreeError>(bytes, levelText(scene, nextDepth, nextNodes) + ")",
                              "lower --max-depth or raise --max-prims", left);
@@ -281,9 +282,7 @@ void refuseSharedEdgesPastLimits(const Scene& scene, const Aabb& root, const Bui
         " nodes or more, counted before building";
     if (params.storableNodes < params.maxNodes)
         throw OctreeError("octree of '" + scene.name + "': " + why + ": " + params.nodeLimit);
-    throw OctreeError("octree of '" + scene.name + "' needs more than " +
-                      std::to_string(params.maxNodes) + " nodes (the node budget): " + why +
-                      ": lower --max-depth, raise --max-prims, or raise --node-budget");
+    throw nodeBudgetRefusal(scene, params, ": " + why);
 }
 
 void checkParams(const Scene& scene, const BuildParams& params) {
@@ -301,6 +300,13 @@ void checkParams(const Scene& scene, const BuildParams& params) {
 
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box) {
     return triangleOverlapsPadded(tri, paddedBox(box));
+}
+
+std::array<std::array<float, 3>, 3> sortedVertices(const Triangle& t) {
+    std::array<std::array<float, 3>, 3> v = {
+        {{t.v0.x, t.v0.y, t.v0.z}, {t.v1.x, t.v1.y, t.v1.z}, {t.v2.x, t.v2.y, t.v2.z}}};
+    std::sort(v.begin(), v.end());
+    return v;
 }
 
 double sphereCentreBoxDistanceSq(const Sphere& s, const Aabb& box) {

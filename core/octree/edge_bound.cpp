@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include "core/octree/octree.h"
+
 namespace oct {
 namespace {
 
@@ -18,8 +20,8 @@ namespace {
 enum class Meets { Yes, No, Unsure };
 
 struct EdgeProbe {
-    float fa[3], fb[3];  // end points as given
-    double a[3], d[3], inv[3];
+    float fa[3];  // the start point as given
+    double a[3], inv[3];
     bool parallel[3];  // b == a on this axis: the whole segment has that coordinate exactly
     // The exact form: every coordinate times `scale`, a power of two, is an integer below 2^60
     // (fixedPoint); the end points A and the direction D so.
@@ -42,11 +44,9 @@ EdgeProbe makeProbe(const Aabb& root, Vec3 a, Vec3 b) {
     float most = 0.0f;
     for (int i = 0; i < 3; ++i) {
         p.fa[i] = a[i];
-        p.fb[i] = b[i];
         p.a[i] = a[i];
-        p.d[i] = double(b[i]) - double(a[i]);
         p.parallel[i] = a[i] == b[i];
-        p.inv[i] = p.parallel[i] ? 0.0 : 1.0 / p.d[i];
+        p.inv[i] = p.parallel[i] ? 0.0 : 1.0 / (double(b[i]) - double(a[i]));
         most = std::max(
             {most, std::fabs(root.lo[i]), std::fabs(root.hi[i]), std::fabs(a[i]), std::fabs(b[i])});
     }
@@ -58,8 +58,7 @@ EdgeProbe makeProbe(const Aabb& root, Vec3 a, Vec3 b) {
     p.exact = true;
     for (int i = 0; i < 3; ++i) {
         int64_t B = 0;
-        p.exact =
-            p.exact && fixedPoint(p.fa[i], p.scale, p.A[i]) && fixedPoint(p.fb[i], p.scale, B);
+        p.exact = p.exact && fixedPoint(a[i], p.scale, p.A[i]) && fixedPoint(b[i], p.scale, B);
         p.D[i] = B - p.A[i];
     }
     return p;
@@ -162,17 +161,10 @@ Corners edgeKey(Vec3 p, Vec3 q) {
     return {u[0], u[1], u[2], v[0], v[1], v[2]};
 }
 
-// A triangle as the builder tells copies apart (sameTriangle): its vertices, sorted.
-std::array<float, 9> triangleKey(const Triangle& t) {
-    std::array<std::array<float, 3>, 3> v = {
-        {{t.v0.x, t.v0.y, t.v0.z}, {t.v1.x, t.v1.y, t.v1.z}, {t.v2.x, t.v2.y, t.v2.z}}};
-    std::sort(v.begin(), v.end());
-    return {v[0][0], v[0][1], v[0][2], v[1][0], v[1][1], v[1][2], v[2][0], v[2][1], v[2][2]};
-}
-
-double crossing(const Corners& k) {
-    return std::fabs(double(k[3]) - k[0]) + std::fabs(double(k[4]) - k[1]) +
-           std::fabs(double(k[5]) - k[2]);
+// The segment's crossing in scene units: the sum over the axes of its extent.
+double crossing(Vec3 a, Vec3 b) {
+    return std::fabs(double(b.x) - a.x) + std::fabs(double(b.y) - a.y) +
+           std::fabs(double(b.z) - a.z);
 }
 
 // Edges long enough to pass, each with the distinct triangles that have it, most first.
@@ -185,8 +177,7 @@ std::vector<SharedEdge> longSharedEdges(const Scene& scene, double shortest, uin
     for (uint32_t t = 0; t < uint32_t(scene.triangles.size()); ++t) {
         const Triangle& tri = scene.triangles[t];
         for (const auto& [p, q] : {std::pair{tri.v0, tri.v1}, {tri.v1, tri.v2}, {tri.v2, tri.v0}}) {
-            const Corners k = edgeKey(p, q);
-            if (crossing(k) > shortest) entries.push_back({k, t});
+            if (crossing(p, q) > shortest) entries.push_back({edgeKey(p, q), t});
         }
     }
     std::sort(entries.begin(), entries.end(),
@@ -194,9 +185,10 @@ std::vector<SharedEdge> longSharedEdges(const Scene& scene, double shortest, uin
     std::vector<SharedEdge> out;
     for (size_t i = 0; i < entries.size();) {
         size_t j = i;
-        std::vector<std::array<float, 9>> distinct;
+        // Distinct as the builder tells copies of a face apart (sameTriangle).
+        std::vector<std::array<std::array<float, 3>, 3>> distinct;
         for (; j < entries.size() && entries[j].edge == entries[i].edge; ++j)
-            distinct.push_back(triangleKey(scene.triangles[entries[j].tri]));
+            distinct.push_back(sortedVertices(scene.triangles[entries[j].tri]));
         std::sort(distinct.begin(), distinct.end());
         const size_t n = size_t(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
         if (n > maxPrims) {
@@ -206,7 +198,7 @@ std::vector<SharedEdge> longSharedEdges(const Scene& scene, double shortest, uin
         i = j;
     }
     std::sort(out.begin(), out.end(), [](const SharedEdge& x, const SharedEdge& y) {
-        return crossing(edgeKey(x.a, x.b)) > crossing(edgeKey(y.a, y.b));
+        return crossing(x.a, x.b) > crossing(y.a, y.b);
     });
     return out;
 }

@@ -2,6 +2,7 @@
 // is converted from (layout_registry.h). Host-only; kernels see the layouts' views.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -80,6 +81,11 @@ Aabb rootCube(const Scene& scene);
 // primitive, or all spheres containing the node) is not split: it stays a leaf (builder.cpp).
 // Throws OctreeError for maxDepth outside [0, 21], maxPrims == 0, or an empty scene.
 Octree buildOctree(const Scene& scene, const BuildParams& params);
+
+// A triangle up to the order of its vertices: a copy of a face, possibly flipped, has the same.
+// The builder keeps a node of copies of one face a leaf (no split separates them), and counts
+// distinct triangles so (edge_bound.h).
+std::array<std::array<float, 3>, 3> sortedVertices(const Triangle& t);
 
 // Overlap tests exactly as the builder applies them, exposed for tests and validation.
 bool builderTriangleOverlaps(const Triangle& tri, const Aabb& box);
