@@ -106,6 +106,11 @@ uint64_t firstBadRow(const float* rays, uint64_t rows) {
     return first;
 }
 
+// Throws "WHAT row I: why" when `first` is a row of rays (below `rows`): checkRayRows' refusal.
+void refuseRow(const std::string& what, const float* rays, uint64_t first, uint64_t rows) {
+    if (first < rows) throw IoError(badRayRowMessage(what, first, &rays[8 * first]));
+}
+
 // Rows read and checked at a time: 2 MiB, within a core's share of the last-level cache.
 constexpr uint64_t kCheckPieceRows = 65536;
 
@@ -120,8 +125,7 @@ uint64_t readRayFileInto(const std::string& path, const std::function<float*(uin
             return std::vector<RowSpan>{{0, n}};
         },
         [&](uint64_t n) { return rays = allocate(n); }, &firstBad);
-    if (firstBad < rows)
-        throw IoError(badRayRowMessage("'" + path + "'", firstBad, &rays[8 * firstBad]));
+    refuseRow("'" + path + "'", rays, firstBad, rows);
     return rows;
 }
 
@@ -184,8 +188,7 @@ uint64_t readRayFileRowsInto(const std::string& path,
 }
 
 void checkRayRows(const float* rays, uint64_t rows, const std::string& what) {
-    const uint64_t first = firstBadRow(rays, rows);
-    if (first < rows) throw IoError(badRayRowMessage(what, first, &rays[8 * first]));
+    refuseRow(what, rays, firstBadRow(rays, rows), rows);
 }
 
 std::string badRayRowMessage(const std::string& what, uint64_t row, const float* r) {
