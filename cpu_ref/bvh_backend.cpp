@@ -22,11 +22,6 @@ double BvhSceneTracer::trace(RayBatchView batch) {
 
 namespace {
 
-bool alwaysAvailable(std::string& why) {
-    why = "OpenMP on the host";
-    return true;
-}
-
 std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
     return std::make_unique<BvhSceneTracer>(scene);
 }
@@ -40,7 +35,7 @@ BackendDesc bvhBackend() {
     d.usesLayouts = false;
     d.structure = "binary-bvh";
     d.trianglesOnly = true;
-    d.available = &alwaysAvailable;
+    d.available = &availableOnHost;
     d.prepare = &prepare;
     return d;
 }

@@ -27,11 +27,6 @@ private:
     const BuiltScene& scene_;
 };
 
-bool alwaysAvailable(std::string& why) {
-    why = "OpenMP on the host";
-    return true;
-}
-
 std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
     return std::make_unique<CpuTracer>(scene);
 }
@@ -43,7 +38,7 @@ BackendDesc cpuBackend() {
     d.name = "cpu";
     d.summary = "the core kernel on the host, OpenMP over pixels or rays";
     d.usesLayouts = true;
-    d.available = &alwaysAvailable;
+    d.available = &availableOnHost;
     d.prepare = &prepare;
     return d;
 }

@@ -20,16 +20,16 @@ double EmbreeSceneTracer::trace(RayBatchView batch) {
 
 namespace {
 
-bool alwaysAvailable(std::string& why) {
-    why = "Embree on the host";
-    return true;
-}
-
 std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
     return std::make_unique<EmbreeSceneTracer>(scene);
 }
 
 }  // namespace
+
+bool embreeAvailable(std::string& why) {
+    why = "Embree on the host";
+    return true;
+}
 
 BackendDesc embreeBackend() {
     BackendDesc d;
@@ -38,7 +38,7 @@ BackendDesc embreeBackend() {
     d.usesLayouts = false;
     d.structure = "embree-bvh";
     d.reference = true;
-    d.available = &alwaysAvailable;
+    d.available = &embreeAvailable;
     d.prepare = &prepare;
     return d;
 }

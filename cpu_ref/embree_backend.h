@@ -8,6 +8,8 @@
 namespace oct {
 
 BackendDesc embreeBackend();
+// BackendDesc::available of both Embree backends: always, linked in.
+bool embreeAvailable(std::string& why);
 
 // The backend's tracer, public so that validation can also ask Embree single occlusion queries
 // (embree().accel() with anyHit) on the BVH it rendered the reference with.

@@ -5,11 +5,6 @@
 namespace oct {
 namespace {
 
-bool alwaysAvailable(std::string& why) {
-    why = "Embree on the host";
-    return true;
-}
-
 std::unique_ptr<SceneTracer> prepare(const BuiltScene& scene) {
     return std::make_unique<EmbreeSceneTracer>(scene, /*robust=*/false);
 }
@@ -22,7 +17,7 @@ BackendDesc embreeFastBackend() {
     d.summary = "Embree in its default (non-robust) mode: a third-party tracer to certify";
     d.usesLayouts = false;
     d.structure = "embree-bvh-fast";
-    d.available = &alwaysAvailable;
+    d.available = &embreeAvailable;
     d.prepare = &prepare;
     return d;
 }

@@ -30,6 +30,11 @@ void setCpuThreads(int threads) {
     if (threads > 0) omp_set_num_threads(threads);
 }
 
+bool availableOnHost(std::string& why) {
+    why = "OpenMP on the host";
+    return true;
+}
+
 HostIsa hostIsa() { return currentIsa(); }
 
 bool setHostIsa(HostIsa isa) {

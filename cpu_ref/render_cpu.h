@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "core/octree/built_scene.h"
@@ -15,6 +16,10 @@ namespace oct {
 
 // Threads for the OpenMP loops: `threads` when positive, else OMP_NUM_THREADS / all cores.
 void setCpuThreads(int threads);
+
+// BackendDesc::available of the backends that run these loops alone (cpu, bvh): always, on the
+// host's OpenMP.
+bool availableOnHost(std::string& why);
 
 // The instruction set traceRaysCpu runs the kernel in. The same source, compiled twice: for
 // the baseline x86-64 (SSE2) and, on CPUs that have it, for AVX2: VEX encoding (three-operand
