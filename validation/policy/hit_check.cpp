@@ -56,13 +56,15 @@ HitClassifier::HitClassifier(const Scene& scene, const ValidationPolicy& policy)
       truth_(scene, {policy.edgeTolerance * sceneExtent(scene), policy.grazingCos}) {}
 
 double HitClassifier::surfaceBound(const Ray& ray, int32_t prim) const {
+    return surfaceBoundFor(ray, hitTError(ray, prim));  // 0 for an id out of range
+}
+
+double HitClassifier::surfaceBoundFor(const Ray& ray, double tError) const {
     const double origin = std::max(
         {std::fabs(double(ray.org.x)), std::fabs(double(ray.org.y)), std::fabs(double(ray.org.z))});
-    double bound = std::max(policy_.edgeTolerance * extent_,
-                            kSurfaceUlps * 0x1p-24 * (origin + sceneMagnitude_));
-    if (prim >= 0 && uint32_t(prim) < truth_.primitiveCount())
-        bound = std::max(bound, hitTError(ray, prim) * double(length(ray.dir)));
-    return bound;
+    const double bound = std::max(policy_.edgeTolerance * extent_,
+                                  kSurfaceUlps * 0x1p-24 * (origin + sceneMagnitude_));
+    return std::max(bound, tError * double(length(ray.dir)));
 }
 
 double HitClassifier::hitTError(const Ray& ray, int32_t prim) const {
@@ -97,14 +99,15 @@ bool HitClassifier::onSurface(const Ray& ray, Hit h) const {
 }
 
 bool HitClassifier::onPrimitive(const Ray& ray, float t, uint32_t prim, double distance) const {
-    if (!(distance <= surfaceBound(ray, int32_t(prim)))) return false;
+    const double tError = hitTError(ray, int32_t(prim));
+    if (!(distance <= surfaceBoundFor(ray, tError))) return false;
     // Along the ray as well as across the surface: a grazing ray stays within the bound of the
     // plane for a long way, so a t several per cent off is still "near" the triangle there.
     // A float test's t is the plane crossing's, off by at most its error bound (Woop et al.'s
     // test after PBRT 3.9.6, floatTError), wherever the ray meets the plane, inside or not.
     const double crossing = truth_.planeCrossing(prim, toDoubleRay(ray));
-    return std::isnan(crossing) || std::fabs(double(t) - crossing) <=
-                                       std::max(tTolerance(ray), hitTError(ray, int32_t(prim)));
+    return std::isnan(crossing) ||
+           std::fabs(double(t) - crossing) <= std::max(tTolerance(ray), tError);
 }
 
 bool HitClassifier::malformed(Hit h) const {

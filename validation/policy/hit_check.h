@@ -138,6 +138,10 @@ public:
     Verdict recheckOcclusion(const Ray& ray, bool oursOccluded) const;
 
 private:
+    // surfaceBound for a primitive whose hitTError is `tError` (0: the floors alone), so that
+    // onPrimitive runs the primitive's error bound once for both of its tests.
+    double surfaceBoundFor(const Ray& ray, double tError) const;
+
     const Scene* scene_;
     ValidationPolicy policy_;
     double extent_;
