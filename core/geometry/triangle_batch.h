@@ -95,6 +95,15 @@ inline TriangleBatch intersectTriangles4(const ShearedRay& r, const ShearedLanes
         _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmplt_ps(vv, zero)), _mm_cmplt_ps(w, zero));
     const __m128 anyPos =
         _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(u, zero), _mm_cmpgt_ps(vv, zero)), _mm_cmpgt_ps(w, zero));
+    // Four lanes outside their triangles (an edge function of each sign, none zero): four
+    // misses, whatever t and its error would be. Most batches of a walk are so; they skip the
+    // division and the error terms (docs/PERFORMANCE.md, "Kernel choices").
+    const int outsideNotZero = _mm_movemask_ps(_mm_andnot_ps(anyZero, _mm_and_ps(anyNeg, anyPos)));
+    if (outsideNotZero == 15) {
+        TriangleBatch miss;
+        for (int j = 0; j < 4; ++j) miss.verdict[j] = LaneVerdict::Miss;
+        return miss;
+    }
     const __m128 det = _mm_add_ps(_mm_add_ps(u, vv), w);
     const __m128 az = _mm_mul_ps(l.sz, d[0][kz]);
     const __m128 bz = _mm_mul_ps(l.sz, d[1][kz]);

@@ -420,13 +420,35 @@ struct CompactLevelBoxes {
     }
 };
 
+// The entry t of every child tested at each level of the walk, as childIntervals wrote them.
+// The host keeps them (32 bytes a level), so a child whose turn comes after the closest hit has
+// moved in front of it is dropped by one compare, before its bounds test (which would drop it
+// too, a cell's bounds being entered no earlier than the cell: the same decisions, fewer
+// instructions; docs/PERFORMANCE.md, "Kernel choices"). CUDA keeps none, the GPU budget again,
+// and its bounds test decides alone. One row more than the levels: a corrupt record below the
+// deepest level is tested before the walk's depth check refuses it.
+struct CompactLevelEntries {
+#if !defined(__CUDA_ARCH__)
+    static constexpr bool kKept = true;
+    float t[kMaxOctreeDepth + 1][8];
+    // Where childIntervals writes the entries of level `level` (`scratch` where none are kept).
+    OCT_HD float* row(int level, float* /*scratch*/) { return t[level]; }
+    OCT_HD float entry(int level, int octant) const { return t[level][octant]; }
+#else
+    static constexpr bool kKept = false;
+    OCT_HD float* row(int /*level*/, float* scratch) { return scratch; }
+    OCT_HD float entry(int /*level*/, int /*octant*/) const { return INFINITY; }  // not called
+#endif
+};
+
 // Traversal with one 8-byte entry a level (after Laine & Karras 2010, ESVO, whose stack is one
 // parent a level): the internal node's first child and masks, and which hit children are left.
 // Boxes are not kept: the current level's parent box is held, a child's box is halved from it
 // when the child's turn comes, and on going back up a level the parent's box is halved again
 // from the root along the key (compactCellBox). The nearest child is visited straight away;
 // a later one's entry t is recomputed from its box, the slab test's own bits (childIntervals'
-// comment). 21 levels x 8 bytes = 168 bytes, against a
+// comment), or on the host read from where its test left it (CompactLevelEntries).
+// 21 levels x 8 bytes = 168 bytes, against a
 // 36-byte box and entry a pushed child (155 of them, 5.6 KB) before.
 //
 // A level entry is the parent's own record (CompactNode, internal form), its zero bits 16-23
@@ -441,6 +463,11 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
     Hit best = initialHit(r);
     CompactNode level[kMaxOctreeDepth];  // the internal node of each level, children left above
     int levels = 0;
+    // Where a child's entry t comes from when its turn comes: kept at its test (host, no
+    // observer), or recomputed from its box (an observer's walk, the check of the kept value;
+    // CUDA where there are no bounds to decide alone).
+    constexpr bool kEntriesKept = kSilent && CompactLevelEntries::kKept;
+    CompactLevelEntries entries;
 
     // Bit a set when the ray runs towards -a: octant order j ^ dirMask is front to back.
     const int dirMask =
@@ -451,9 +478,18 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
     }
-    const bool rootHit = intersectBox(q.slabs, v.rootBox, r.tmin, r.tmax, tEnter, t1);
+    // Without an observer and with bounds, the root's bounds decide alone (they lie in the root
+    // cell, so a ray that misses the cell misses them): one scalar slab test that stops at the
+    // first slab missed, as a BVH's root box test, where the cell and then its bounds were two,
+    // for the many rays that miss everything. It is the bounds test the first visit would make
+    // (the closest hit is still tmax), so the first visit skips it.
+    const bool rootByBounds = kSilent && v.bounds.count != 0;
+    const bool rootHit = intersectBox(
+        q.slabs, rootByBounds ? dequantize(loadReadOnly(v.bounds.data), v.rootBox) : v.rootBox,
+        r.tmin, r.tmax, tEnter, t1);
     obs.boxTested(kRootKey, 0, v.rootBox, rootHit, tEnter, t1);
     if (!rootHit) return missHit();
+    bool boundsPassed = rootByBounds;  // the node to visit passed its bounds test already
 
     // The node to visit: its record, whether it is a leaf, key, depth and cell; and the box of
     // the parent at the deepest level (levelBox, of depth levels - 1 when levels > 0).
@@ -465,12 +501,13 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
     int levelBoxDepth = -1;
     CompactLevelBoxes kept;
     for (;;) {
-        // Entered beyond the closest hit: nothing nearer below. Without an observer and with
-        // bounds, the bounds test below decides it alone (the bounds lie within the cell, so a
-        // cell entered beyond the hit has bounds entered beyond it too).
-        if ((!kSilent || v.bounds.count == 0) && tEnter > best.t) {
+        // Entered beyond the closest hit: nothing nearer below. On CUDA without an observer and
+        // with bounds, the bounds test below decides it alone (the bounds lie within the cell, so
+        // a cell entered beyond the hit has bounds entered beyond it too); the host compares the
+        // kept entry first (CompactLevelEntries).
+        if ((kEntriesKept || !kSilent || v.bounds.count == 0) && tEnter > best.t) {
             obs.nodePopped(key, tEnter, false);
-        } else if (v.bounds.count != 0 &&
+        } else if (v.bounds.count != 0 && !boundsPassed &&
                    !compact_detail::boundsHit(lanes, loadReadOnly(v.bounds.data + index), box,
                                               r.tmin, best.t)) {
             // The geometry's bounds within the cell: a ray that crosses the cell but misses
@@ -478,6 +515,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             obs.childSkipped(key, SkipReason::OutsideBounds);
         } else {
             obs.nodePopped(key, tEnter, true);
+            boundsPassed = false;
             const CompactNode n = loadReadOnly(v.nodes.data + index);
             if (leaf) {
                 const LeafOutcome out = testLeafList<kAnyHit>(
@@ -486,7 +524,8 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
                 if (out == LeafOutcome::Found) return best;
             } else {
                 const uint32_t mask = n.childMask(), leafMask = n.leafMask();
-                float enter[8], exit[8];
+                float scratch[8], exit[8];
+                float* const enter = entries.row(levels, scratch);
                 uint32_t hitMask =
                     compact_detail::childIntervals(lanes, box, r.tmin, best.t, enter, exit);
                 hitMask &= mask;
@@ -552,7 +591,9 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         key = childKey(parentKey, i);
         depth = parentDepth + 1;
         box = childBox(levelBox, i);
-        if (!kSilent || v.bounds.count == 0)  // the same entry t as its test among its siblings
+        if (kEntriesKept)
+            tEnter = entries.entry(parentDepth, i);
+        else if (!kSilent || v.bounds.count == 0)  // the same bits as its test among its siblings
             tEnter = boxEntry(q.slabs, box, r.tmin);
     }
     return finishHit(best);
