@@ -73,6 +73,11 @@ Box3 clippedTriangle(const Triangle& t, const Box3& box) {
         for (int side = 0; side < 2; ++side) {
             const double plane = side ? box.hi[a] : box.lo[a];
             auto in = [&](const P3& p) { return side ? p[a] <= plane : p[a] >= plane; };
+            // A plane with every vertex on its inner side gives back the same polygon, vertex for
+            // vertex: skip it (a replicated triangle crosses one or two of its cell's six).
+            bool allIn = true;
+            for (int i = 0; i < count; ++i) allIn = allIn && in(poly[i]);
+            if (allIn) continue;
             int n = 0;
             for (int i = 0; i < count; ++i) {
                 const P3& cur = poly[i];
@@ -189,6 +194,7 @@ CompactOctree buildCompact(const Octree& tree, const Scene* scene) {
     // Breadth first: a queue of canonical node indices in the order their records are placed;
     // an internal node's stored children are appended together, so they are adjacent.
     std::vector<uint32_t> order = {0};
+    order.reserve(tree.nodes.size());
     c.nodes.reserve(tree.nodes.size());
     for (size_t at = 0; at < order.size(); ++at) {
         const OctreeNode& n = tree.nodes[order[at]];
@@ -210,7 +216,15 @@ CompactOctree buildCompact(const Octree& tree, const Scene* scene) {
             rec.b = mask | leaves << 8;
         }
         c.nodes.push_back(rec);
-        if (scene) c.bounds.push_back(quantise(geometry[order[at]], n.box));
+    }
+    if (!scene) return c;
+    // Each record's bounds from its canonical node's, independent of one another.
+    c.bounds.resize(order.size());
+    const int64_t records = int64_t(order.size());
+#pragma omp parallel for schedule(static)
+    for (int64_t at = 0; at < records; ++at) {
+        const uint32_t i = order[size_t(at)];
+        c.bounds[size_t(at)] = quantise(geometry[i], tree.nodes[i].box);
     }
     return c;
 }
