@@ -464,9 +464,11 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
     CompactNode level[kMaxOctreeDepth];  // the internal node of each level, children left above
     int levels = 0;
     // Where a child's entry t comes from when its turn comes: kept at its test (host, no
-    // observer), or recomputed from its box (an observer's walk, the check of the kept value;
-    // CUDA where there are no bounds to decide alone).
-    constexpr bool kEntriesKept = kSilent && CompactLevelEntries::kKept;
+    // observer, closest hit), or recomputed from its box (an observer's walk, the check of the
+    // kept value; CUDA where there are no bounds to decide alone). An any-hit walk keeps none:
+    // its closest hit stays at tmax until the first hit ends the walk, so no kept entry would
+    // ever drop a child there.
+    constexpr bool kEntriesKept = kSilent && !kAnyHit && CompactLevelEntries::kKept;
     CompactLevelEntries entries;
 
     // Bit a set when the ray runs towards -a: octant order j ^ dirMask is front to back.
@@ -478,18 +480,9 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
     }
-    // Without an observer and with bounds, the root's bounds decide alone (they lie in the root
-    // cell, so a ray that misses the cell misses them): one scalar slab test that stops at the
-    // first slab missed, as a BVH's root box test, where the cell and then its bounds were two,
-    // for the many rays that miss everything. It is the bounds test the first visit would make
-    // (the closest hit is still tmax), so the first visit skips it.
-    const bool rootByBounds = kSilent && v.bounds.count != 0;
-    const bool rootHit = intersectBox(
-        q.slabs, rootByBounds ? dequantize(loadReadOnly(v.bounds.data), v.rootBox) : v.rootBox,
-        r.tmin, r.tmax, tEnter, t1);
+    const bool rootHit = intersectBox(q.slabs, v.rootBox, r.tmin, r.tmax, tEnter, t1);
     obs.boxTested(kRootKey, 0, v.rootBox, rootHit, tEnter, t1);
     if (!rootHit) return missHit();
-    bool boundsPassed = rootByBounds;  // the node to visit passed its bounds test already
 
     // The node to visit: its record, whether it is a leaf, key, depth and cell; and the box of
     // the parent at the deepest level (levelBox, of depth levels - 1 when levels > 0).
@@ -507,7 +500,7 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         // kept entry first (CompactLevelEntries).
         if ((kEntriesKept || !kSilent || v.bounds.count == 0) && tEnter > best.t) {
             obs.nodePopped(key, tEnter, false);
-        } else if (v.bounds.count != 0 && !boundsPassed &&
+        } else if (v.bounds.count != 0 &&
                    !compact_detail::boundsHit(lanes, loadReadOnly(v.bounds.data + index), box,
                                               r.tmin, best.t)) {
             // The geometry's bounds within the cell: a ray that crosses the cell but misses
@@ -515,7 +508,6 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
             obs.childSkipped(key, SkipReason::OutsideBounds);
         } else {
             obs.nodePopped(key, tEnter, true);
-            boundsPassed = false;
             const CompactNode n = loadReadOnly(v.nodes.data + index);
             if (leaf) {
                 const LeafOutcome out = testLeafList<kAnyHit>(
