@@ -229,8 +229,7 @@ template <class T>
 void reserveGrowth(std::vector<T>& v, uint64_t needed) {
     if (needed <= v.capacity()) return;
     std::vector<T> grown;
-    grown.reserve(std::max<uint64_t>(needed, 2 * uint64_t(v.capacity())));
-    adviseHugePages(grown.data(), grown.capacity() * sizeof(T));
+    reserveHuge(grown, std::max<uint64_t>(needed, 2 * uint64_t(v.capacity())));
     grown.insert(grown.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
     v.swap(grown);
 }

@@ -171,8 +171,7 @@ QuantBounds quantise(const Box3& g, const Aabb& cell) {
 // before parents (the tree is breadth first, so a backwards pass sees children first).
 std::vector<Box3> nodeGeometry(const Scene& scene, const Octree& tree) {
     std::vector<Box3> g;
-    g.reserve(tree.nodes.size());
-    adviseHugePages(g.data(), g.capacity() * sizeof(Box3));  // 48 bytes a node, touched once
+    reserveHuge(g, tree.nodes.size());  // 48 bytes a node, touched once
     g.resize(tree.nodes.size());
     const int64_t n = int64_t(tree.nodes.size());
 #pragma omp parallel for schedule(dynamic, 256)

@@ -42,14 +42,6 @@ uint64_t fileSize(const std::string& path);
 // "a, b or c" for lastJoin " or ": the help text's and messages' lists.
 std::string joinList(const std::vector<std::string>& items, const std::string& lastJoin);
 
-// A load's large arrays go on huge pages (adviseHugePages, core/system/resources.h): reserveHuge
-// reserves a vector's room and advises it before anything is written there.
-template <class T>
-void reserveHuge(std::vector<T>& v, size_t count) {
-    v.reserve(count);
-    adviseHugePages(v.data(), v.capacity() * sizeof(T));
-}
-
 // Text files may begin with a UTF-8 byte-order mark (Windows editors write one). It is not
 // part of the first line's text: stripUtf8Bom removes it from the start of `firstLine` and
 // returns how many bytes it removed (3 or 0).

@@ -11,6 +11,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace oct {
 
@@ -81,6 +82,14 @@ uint64_t saturatingAdd(uint64_t a, uint64_t b);
 // read (docs/PERFORMANCE.md, "Loading meshes"). A hint only: nothing changes where the kernel
 // declines. adviseHugePages takes any range (below 4 MiB it does nothing).
 void adviseHugePages(const void* data, size_t bytes);
+
+// Reserves a vector's room for `count` T and advises it onto huge pages before anything is
+// written there (the loaders' arrays, the builder's, the compact conversion's).
+template <class T>
+void reserveHuge(std::vector<T>& v, size_t count) {
+    v.reserve(count);
+    adviseHugePages(v.data(), v.capacity() * sizeof(T));
+}
 
 // An uninitialised array of `count` T, 2 MiB-aligned and advised onto huge pages; throws
 // std::bad_alloc when the memory is not there.
