@@ -45,6 +45,10 @@ struct BuildParams {
     int storableDepth = kMaxOctreeDepth;
     uint64_t storableNodes = UINT64_MAX;
     std::string depthLimit, nodeLimit;
+    // From this many triangles on, the build reads them in a spatial order, for its caches
+    // (builder.cpp, BuildOrder); the tree is the same node for node and list for list. Only
+    // the tests that compare the two orders set it.
+    uint32_t spatialOrderFrom = uint32_t(1) << 14;
 };
 
 struct Octree {

@@ -4,7 +4,9 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <new>
 
@@ -116,10 +118,19 @@ void adviseHugePages(const void* data, size_t bytes) {
 
 void* allocateHuge(size_t bytes) {
     constexpr size_t kHugePage = size_t(2) << 20;
-    const size_t room = (bytes + kHugePage) & ~(kHugePage - 1);  // aligned_alloc's rule
+    if (bytes < kHugePage / 8) {
+        void* p = std::malloc(std::max<size_t>(bytes, 1));
+        if (!p) throw std::bad_alloc();
+        return p;
+    }
+    const size_t room = (bytes + kHugePage - 1) & ~(kHugePage - 1);  // aligned_alloc's rule
     void* p = std::aligned_alloc(kHugePage, room);
     if (!p) throw std::bad_alloc();
-    adviseHugePages(p, room);
+#if defined(MADV_HUGEPAGE)
+    // Aligned to a huge page: even a single one is worth advising (adviseHugePages, for any
+    // range, waits for two).
+    ::madvise(p, room, MADV_HUGEPAGE);
+#endif
     return p;
 }
 
