@@ -47,8 +47,8 @@ struct PendingNode {
 // by the parity of the level whose lists they hold: the lists of the level being split are read
 // from one while its children's are written to the other, which held the level before it, now
 // stored. Recycling keeps the blocks, so after the first levels the build neither allocates,
-// frees nor first-touches a list; a vector per list did all three (7 % of a bunny build's
-// samples in malloc and free, and page faults besides).
+// frees nor first-touches a list; a vector per list did all three (docs/PERFORMANCE.md,
+// "Kernel choices").
 class ListArena {
 public:
     PrimList append(const std::vector<uint32_t>& list) {
@@ -140,16 +140,15 @@ struct BuildPrims {
 // The build reads triangles in a spatial order, not the file's: sorted by the cell of the
 // 32^3 grid over the root (depth 5, Morton order) that holds the centre of their bounds, the
 // file's order kept within a cell. A node's list then names triangles that sit together in
-// memory, where the file's order sent each test to a cache miss: the bunny's build went from
-// 0.075 s to 0.056 s (2 threads, medians of 8 interleaved runs). The lists hold build
-// indices while the tree is made; the leaves' lists are put back into scene indices,
-// ascending, at the end (toSceneIndices), so the tree is the one the file's order gives: which
-// triangles a cell lists does not depend on the order they are tested in.
-// Its arrays are written once, so they sit on huge pages (allocateHuge): on 4 KiB pages their
-// first touches alone took 17 ms of a 70 ms bunny build.
+// memory, where the file's order sent each test to a cache and TLB miss (docs/PERFORMANCE.md,
+// "Kernel choices"). The lists hold build indices while the tree is made; the leaves' lists
+// are put back into scene indices, ascending, at the end (toSceneIndices), so the tree is the
+// one the file's order gives: which triangles a cell lists does not depend on the order they
+// are tested in. The arrays are written once, so they sit on huge pages (allocateHuge): on
+// 4 KiB pages their first touches cost more than the order saved.
 // A scene of fewer than BuildParams::spatialOrderFrom triangles (16,384) is read in its file's
 // order: its triangles and bounds fit in a core's cache either way, and the sort's fixed costs
-// would be much of its build (a 6k-triangle teapot: 2 ms).
+// would be much of its build.
 struct BuildOrder {
     HugeArray<uint32_t> sceneIndex;  // build index -> scene index; null: the scene's order
     HugeArray<Triangle> triangles;   // in build order; null: the scene's array
@@ -206,7 +205,7 @@ BuildOrder makeBuildOrder(const Scene& scene, const Aabb& root, uint32_t spatial
         order.sceneIndex[place[i]] = i;
     }
     // Scattered, the scene read in its order: a gather read it at random, a cache and TLB miss
-    // a triangle (8 ms of the bunny's 70k; 4 KiB pages under a virtual machine's nested paging).
+    // a triangle (twice the time on the bunny: 4 KiB pages under a virtual machine's paging).
     order.triangles = makeHugeArray<Triangle>(size_t(n));
     order.bounds = makeHugeArray<Aabb>(size_t(n));
 #pragma omp parallel for schedule(static) if (n > 4096)
@@ -599,8 +598,8 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
         bool overCap = false, overMemory = false;
         // Fewer nodes than two a thread (the root, on a few cores): one job per (node, octant),
         // so every thread has work; else one per node, whose 8 lists share one pass. Only split
-        // nodes are jobs: a level's leaves (all 80k of the bunny's last) would each cost a
-        // dynamic schedule's hand-out.
+        // nodes are jobs: a level's leaves (all 80k of the bunny's last, 3 ms) would each cost
+        // a dynamic schedule's hand-out.
         const bool perOctant = count < 2 * threadsAvailable();
         const int64_t jobs = int64_t(perOctant ? 8 * splitCount : splitCount);
 #pragma omp parallel for schedule(dynamic, 1)
