@@ -530,12 +530,12 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
 
     refuseSharedEdgesPastLimits(scene, tree.root, params, tree.effectiveMaxDepth);
 
-    // Breadth-first over one level at a time, so the 8 children of each node are adjacent
-    // and levels are contiguous.
     const BuildOrder order = makeBuildOrder(scene, tree.root, params.spatialOrderFrom);
     const BuildPrims prims = order.view(scene);
     std::vector<ThreadLists> work(static_cast<size_t>(threadsAvailable()));
-    // Two levels' records, swapped from level to level so that their pages are written once.
+    // Breadth-first over one level at a time, so the 8 children of each node are adjacent
+    // and levels are contiguous. Two levels' records, swapped from level to level so that their
+    // pages are written once.
     std::vector<PendingNode> level(1), next;
     level[0] = {kRootKey, tree.root, 0, {}};
     {
