@@ -181,6 +181,7 @@ BuildOrder makeBuildOrder(const Scene& scene, const Aabb& root, uint32_t spatial
     const int64_t n = int64_t(scene.triangles.size());
     if (uint64_t(n) < spatialFrom) {
         order.bounds = makeHugeArray<Aabb>(size_t(n));
+#pragma omp parallel for schedule(static) if (n > 4096)
         for (int64_t i = 0; i < n; ++i)
             order.bounds[size_t(i)] = boundsOf(scene.triangles[size_t(i)]);
         return order;
@@ -649,7 +650,8 @@ Octree buildOctree(const Scene& scene, const BuildParams& params) {
                               std::to_string(params.maxReferences * 4 >> 20) +
                               " MiB): lower --max-depth or raise --max-prims");
 
-        // Phase 2, in order: records, leaf lists and the next level, breadth first.
+        // Phase 2, in order: records and leaf lists, breadth first (phase 1 placed the next
+        // level's records).
         reserveGrowth(tree.nodes, stored);
         reserveGrowth(tree.firstChild, stored);
         reserveGrowth(tree.primIndices, tree.primIndices.size() + leafRefs);

@@ -105,8 +105,10 @@ std::string memoryShortfall(uint64_t bytes, const std::string& what, const std::
 
 void adviseHugePages(const void* data, size_t bytes) {
 #if defined(MADV_HUGEPAGE)
-    constexpr uintptr_t kPage = 4096;
-    if (bytes < (size_t(4) << 20)) return;  // below two huge pages: nothing to gain
+    constexpr uintptr_t kPage = 4096, kHugePage = uintptr_t(2) << 20;
+    // Only a whole 2 MiB-aligned page within the range can become a huge page.
+    const uintptr_t firstHuge = (uintptr_t(data) + kHugePage - 1) & ~(kHugePage - 1);
+    if (firstHuge + kHugePage > uintptr_t(data) + bytes) return;
     const uintptr_t begin = (uintptr_t(data) + kPage - 1) & ~(kPage - 1);
     const uintptr_t end = (uintptr_t(data) + bytes) & ~(kPage - 1);
     if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
@@ -126,11 +128,7 @@ void* allocateHuge(size_t bytes) {
     const size_t room = (bytes + kHugePage - 1) & ~(kHugePage - 1);  // aligned_alloc's rule
     void* p = std::aligned_alloc(kHugePage, room);
     if (!p) throw std::bad_alloc();
-#if defined(MADV_HUGEPAGE)
-    // Aligned to a huge page: even a single one is worth advising (adviseHugePages, for any
-    // range, waits for two).
-    ::madvise(p, room, MADV_HUGEPAGE);
-#endif
+    adviseHugePages(p, room);
     return p;
 }
 

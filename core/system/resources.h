@@ -80,7 +80,8 @@ uint64_t saturatingAdd(uint64_t a, uint64_t b);
 // mode, as on Debian): on this project's virtual machines the first touch of every 4 KiB page
 // is a fault of some 18 us, which made most of a 34 MB mesh's load and of a 128 MB ray file's
 // read (docs/PERFORMANCE.md, "Loading meshes"). A hint only: nothing changes where the kernel
-// declines. adviseHugePages takes any range (below 4 MiB it does nothing).
+// declines. adviseHugePages takes any range (one holding no whole 2 MiB-aligned page it leaves
+// alone).
 void adviseHugePages(const void* data, size_t bytes);
 
 // Reserves a vector's room for `count` T and advises it onto huge pages before anything is
