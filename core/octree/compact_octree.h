@@ -458,8 +458,11 @@ template <bool kAnyHit, class Obs>
 OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, TraceCost& cost,
                                   Obs& obs) {
     constexpr bool kSilent = std::is_same<Obs, NoObserver>::value;
-    PreparedRay q = prepareRay(r);
-    const compact_detail::LaneRay lanes = compact_detail::makeLaneRay(q.slabs);
+    // The root's cell is tested with the slabs alone: half the rays of a camera around a scan
+    // miss it, and the triangle test's shear (prepareRay) is made only for the rest. prepareRay
+    // makes the slabs again: handing these on to it compiled to a walk slower for every ray
+    // that meets the cell (docs/PERFORMANCE.md, "Kernel choices").
+    const RaySlabs rootSlabs = makeRaySlabs(r.org, r.dir);
     Hit best = initialHit(r);
     CompactNode level[kMaxOctreeDepth];  // the internal node of each level, children left above
     int levels = 0;
@@ -480,9 +483,11 @@ OCT_HD inline Hit traverseCompact(const CompactOctreeView& v, const Ray& r, Trac
         obs.childSkipped(kRootKey, SkipReason::Absent);
         return missHit();
     }
-    const bool rootHit = intersectBox(q.slabs, v.rootBox, r.tmin, r.tmax, tEnter, t1);
+    const bool rootHit = intersectBox(rootSlabs, v.rootBox, r.tmin, r.tmax, tEnter, t1);
     obs.boxTested(kRootKey, 0, v.rootBox, rootHit, tEnter, t1);
     if (!rootHit) return missHit();
+    PreparedRay q = prepareRay(r);
+    const compact_detail::LaneRay lanes = compact_detail::makeLaneRay(q.slabs);
 
     // The node to visit: its record, whether it is a leaf, key, depth and cell; and the box of
     // the parent at the deepest level (levelBox, of depth levels - 1 when levels > 0).
