@@ -179,41 +179,38 @@ BuildOrder makeBuildOrder(const Scene& scene, const Aabb& root, uint32_t spatial
     BuildOrder order;
     if (scene.kind != PrimKind::Triangles) return order;
     const int64_t n = int64_t(scene.triangles.size());
-    if (uint64_t(n) < spatialFrom) {
-        order.bounds = makeHugeArray<Aabb>(size_t(n));
+    // The build index of scene triangle i (its cell first); null: the scene's order.
+    HugeArray<uint32_t> place;
+    if (uint64_t(n) >= spatialFrom) {
+        place = makeHugeArray<uint32_t>(size_t(n));
 #pragma omp parallel for schedule(static) if (n > 4096)
         for (int64_t i = 0; i < n; ++i)
-            order.bounds[size_t(i)] = boundsOf(scene.triangles[size_t(i)]);
-        return order;
-    }
-    // cell[i], then the build index of scene triangle i.
-    HugeArray<uint32_t> place = makeHugeArray<uint32_t>(size_t(n));
-#pragma omp parallel for schedule(static) if (n > 4096)
-    for (int64_t i = 0; i < n; ++i)
-        place[size_t(i)] = orderCell(boundsOf(scene.triangles[size_t(i)]), root);
-    // A counting sort: stable, so the file's order stays within a cell.
-    std::vector<uint32_t> start(size_t(1) << (3 * kOrderDepth), 0);
-    for (int64_t i = 0; i < n; ++i) ++start[place[size_t(i)]];
-    uint32_t sum = 0;
-    for (uint32_t& s : start) {
-        const uint32_t count = s;
-        s = sum;
-        sum += count;
-    }
-    order.sceneIndex = makeHugeArray<uint32_t>(size_t(n));
-    for (uint32_t i = 0; i < uint32_t(n); ++i) {
-        place[i] = start[place[i]]++;
-        order.sceneIndex[place[i]] = i;
+            place[size_t(i)] = orderCell(boundsOf(scene.triangles[size_t(i)]), root);
+        // A counting sort: stable, so the file's order stays within a cell.
+        std::vector<uint32_t> start(size_t(1) << (3 * kOrderDepth), 0);
+        for (int64_t i = 0; i < n; ++i) ++start[place[size_t(i)]];
+        uint32_t sum = 0;
+        for (uint32_t& s : start) {
+            const uint32_t count = s;
+            s = sum;
+            sum += count;
+        }
+        order.sceneIndex = makeHugeArray<uint32_t>(size_t(n));
+        for (uint32_t i = 0; i < uint32_t(n); ++i) {
+            place[i] = start[place[i]]++;
+            order.sceneIndex[place[i]] = i;
+        }
+        order.triangles = makeHugeArray<Triangle>(size_t(n));
     }
     // Scattered, the scene read in its order: a gather read it at random, a cache and TLB miss
     // a triangle (twice the time on the bunny: 4 KiB pages under a virtual machine's paging).
-    order.triangles = makeHugeArray<Triangle>(size_t(n));
     order.bounds = makeHugeArray<Aabb>(size_t(n));
 #pragma omp parallel for schedule(static) if (n > 4096)
     for (int64_t i = 0; i < n; ++i) {
         const Triangle& t = scene.triangles[size_t(i)];
-        order.triangles[place[size_t(i)]] = t;
-        order.bounds[place[size_t(i)]] = boundsOf(t);
+        const size_t at = place ? place[size_t(i)] : size_t(i);
+        if (place) order.triangles[at] = t;
+        order.bounds[at] = boundsOf(t);
     }
     return order;
 }
