@@ -236,7 +236,8 @@ RayCertification certifyRays(const HitClassifier& c, const RaySet& rays, const H
     // Zero bytes where another process rechecks (combine).
     std::vector<Verdict> verdict(recheck.size());
     static_assert(std::is_trivially_copyable_v<Verdict>);
-    if (!verdict.empty()) std::memset(verdict.data(), 0, verdict.size() * sizeof(Verdict));
+    if (!verdict.empty())
+        std::memset(static_cast<void*>(verdict.data()), 0, verdict.size() * sizeof(Verdict));
     std::vector<int32_t> inferred(recheck.size(), 0);
     parallelFor(recheck.size(), [&](size_t k) {
         const uint64_t i = recheck[k];

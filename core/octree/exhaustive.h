@@ -35,7 +35,7 @@ template <class Obs>
 OCT_HD inline bool anyHit(const ExhaustiveView& v, const Ray& r, TraceCost& cost, Obs& obs) {
     PreparedRay q = prepareRay(r);
     for (uint32_t i = 0; i < v.prims.count; ++i) {
-        float t;
+        float t = INFINITY;  // written on a hit only; the observer is handed it either way
         ++cost.primsTested;
         const bool hit = intersectPrimitive(v.prims, i, q, r.tmax, t);
         obs.primTested(i, hit, t);

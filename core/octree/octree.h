@@ -44,7 +44,7 @@ struct BuildParams {
     // bound nothing.
     int storableDepth = kMaxOctreeDepth;
     uint64_t storableNodes = UINT64_MAX;
-    std::string depthLimit, nodeLimit;
+    std::string depthLimit{}, nodeLimit{};  // {}: BuildParams{depth, prims} names no others
     // From this many triangles on, the build reads them in a spatial order, for its caches
     // (builder.cpp, BuildOrder); the tree is the same node for node and list for list. Only
     // the tests that compare the two orders set it.

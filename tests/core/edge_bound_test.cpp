@@ -57,10 +57,11 @@ TEST(EdgeBound, NeverAboveTheBuiltNodesAndCloseToThem) {
             const Octree tree = buildOctree(s, BuildParams{depth, 1});
             const uint64_t bound = boundOf(s, depth);
             EXPECT_LE(bound, tree.nodes.size()) << s.name << " " << k << " at depth " << depth;
-            if (k < structured)
+            if (k < structured) {
                 EXPECT_GE(double(bound), 0.5 * double(tree.nodes.size()))
                     << s.name << " at depth " << depth << ": " << bound << " of "
                     << tree.nodes.size();
+            }
         }
     // The quad's tree is all along its diagonal: the count is exact.
     const Octree quad = buildOctree(unitQuad(), BuildParams{10, 1});

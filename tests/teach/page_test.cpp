@@ -183,7 +183,7 @@ TEST(PageKernelSpec, RebuildsTheTracedLayoutAndExplainsAsOctraceDoes) {
 
 // A changed layout is caught: the fingerprint covers every array and the primitives.
 TEST(PageKernelSpec, FingerprintChangesWithTheBuildAndThePrimitives) {
-    for (const std::string name : {kMeshes + "/teapot.obj", std::string("grid:300")}) {
+    for (const std::string& name : {kMeshes + "/teapot.obj", std::string("grid:300")}) {
         Scene scene = loadScene(name, {});
         LayoutOptions a, b;
         b.build.maxPrims = 1;
@@ -191,7 +191,9 @@ TEST(PageKernelSpec, FingerprintChangesWithTheBuildAndThePrimitives) {
         for (const LayoutDesc& layout : layouts()) {
             SCOPED_TRACE(name + " " + layout.name);
             const uint64_t base = layoutFingerprint(buildScene(scene, layout, a));
-            if (layout.usesOctree) EXPECT_NE(layoutFingerprint(buildScene(scene, layout, b)), base);
+            if (layout.usesOctree) {
+                EXPECT_NE(layoutFingerprint(buildScene(scene, layout, b)), base);
+            }
             Scene moved = scene;
             float& x = scene.kind == PrimKind::Triangles ? moved.triangles[17].v1.x
                                                          : moved.spheres[17].center.x;

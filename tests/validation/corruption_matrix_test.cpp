@@ -327,8 +327,9 @@ void expectEveryRowCorruptionFails(const Scene& scene, int rowsPerSet, uint64_t 
         }
         // Every set with hits has t corruptions judged; those within the tolerance are rows
         // whose t the float test cannot pin to 2 % (grazing, slivers) or a t of about 0.
-        if (!hits.empty() && s.name != illConditioned)
+        if (!hits.empty() && s.name != illConditioned) {
             EXPECT_GT(scale.judged, 0) << scene.name << " " << s.name;
+        }
         std::printf(
             "%s %-10s %zu hit rows: t +-2%% judged %d, within the tolerance %d (t ~ 0: %d, "
             "ill-conditioned: %d)\n",

@@ -136,9 +136,11 @@ TEST(RegressionManifest, AddFillsEveryDerivedFieldWithTheSettingsGiven) {
     // The new entry passes its check: the hash layout and Embree only.
     const oct::RegressionReport c = oct::runRegression(path, RegressionMode::Check, kRoot);
     EXPECT_TRUE(c.passes()) << oct::humanSummary(c);
-    for (const oct::GoldenRow& row : c.golden->rows)
-        if (row.scene == "meshes/teapot.obj")
+    for (const oct::GoldenRow& row : c.golden->rows) {
+        if (row.scene == "meshes/teapot.obj") {
             EXPECT_TRUE(row.tracer == "hash" || row.tracer == "embree") << row.tracer;
+        }
+    }
     // Twice is refused, and nothing is written.
     const std::string before = octtest::readFile(path);
     EXPECT_THROW(oct::runRegression(path, RegressionMode::Add, kRoot, {}, &add),
